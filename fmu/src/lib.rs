@@ -1,0 +1,1 @@
+//! The FMI layer. Not built yet: see issue "FMUs".

@@ -1,0 +1,187 @@
+//! Prescribed displacements by elimination (seed 002 eq. 3.3): the constrained dofs are
+//! removed from the system, and their prescribed values move to the right-hand side,
+//!
+//! K_ff u_f = f_f − K_fc u_c.
+//!
+//! The reduced (free–free) matrices get their own pattern, built once; their values are
+//! gathered from the full matrices' values through a precomputed index list.
+
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+
+use super::Assembler;
+use crate::error::ModelError;
+
+const CONSTRAINED: usize = usize::MAX;
+
+/// The split of dofs into free and constrained ones, and the reduced pattern.
+#[derive(Debug, Clone)]
+pub struct Dirichlet {
+    constrained: Vec<usize>,
+    equation: Vec<usize>,
+    free: Vec<usize>,
+    symbolic: SymbolicSparseColMat<usize>,
+    gather: Vec<usize>,
+}
+
+impl Dirichlet {
+    /// Splits the dofs of `asm` into free and `constrained` ones (duplicates allowed).
+    pub fn new(asm: &Assembler, constrained: &[usize]) -> Result<Self, ModelError> {
+        let n = asm.n_dofs();
+        let mut equation = vec![0; n];
+        for &d in constrained {
+            if d >= n {
+                return Err(ModelError::InvalidParameter {
+                    name: "constrained dof".into(),
+                    value: d as f64,
+                    reason: "is out of range",
+                });
+            }
+            equation[d] = CONSTRAINED;
+        }
+        let mut free = Vec::with_capacity(n);
+        for (dof, eq) in equation.iter_mut().enumerate() {
+            if *eq != CONSTRAINED {
+                *eq = free.len();
+                free.push(dof);
+            }
+        }
+        let full = asm.symbolic();
+        let mut col_ptr = vec![0];
+        let mut row_idx = Vec::new();
+        let mut gather = Vec::new();
+        for &col in &free {
+            for k in full.col_ptr()[col]..full.col_ptr()[col + 1] {
+                let eq = equation[full.row_idx()[k]];
+                if eq != CONSTRAINED {
+                    row_idx.push(eq);
+                    gather.push(k);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        let symbolic =
+            SymbolicSparseColMat::new_checked(free.len(), free.len(), col_ptr, None, row_idx);
+        let mut constrained = constrained.to_vec();
+        constrained.sort_unstable();
+        constrained.dedup();
+        Ok(Self {
+            constrained,
+            equation,
+            free,
+            symbolic,
+            gather,
+        })
+    }
+
+    /// Number of free dofs (equations).
+    pub fn n_free(&self) -> usize {
+        self.free.len()
+    }
+
+    /// The constrained dofs, sorted.
+    pub fn constrained(&self) -> &[usize] {
+        &self.constrained
+    }
+
+    /// Global dof of each equation.
+    pub fn free(&self) -> &[usize] {
+        &self.free
+    }
+
+    /// Equation number of global dof `dof`, or `None` if constrained.
+    pub fn equation(&self, dof: usize) -> Option<usize> {
+        Some(self.equation[dof]).filter(|&e| e != CONSTRAINED)
+    }
+
+    /// Pattern of the reduced matrices.
+    pub fn symbolic(&self) -> &SymbolicSparseColMat<usize> {
+        &self.symbolic
+    }
+
+    /// Number of stored entries of a reduced matrix.
+    pub fn nnz(&self) -> usize {
+        self.gather.len()
+    }
+
+    /// Views reduced `values` as a matrix.
+    pub fn matrix<'a>(&'a self, values: &'a [f64]) -> SparseColMatRef<'a, usize, f64> {
+        SparseColMatRef::new(self.symbolic.as_ref(), values)
+    }
+
+    /// out = Σ cᵢ · (full matrix i restricted to the free dofs), for matrices on the full
+    /// pattern (e.g. an effective matrix a·M + b·C + K).
+    pub fn combine(&self, terms: &[(f64, &[f64])], out: &mut [f64]) {
+        for (o, &k) in out.iter_mut().zip(&self.gather) {
+            *o = terms.iter().map(|(c, v)| c * v[k]).sum();
+        }
+    }
+
+    /// Restricts a full-length vector to the free dofs.
+    pub fn reduce(&self, full: &[f64], out: &mut [f64]) {
+        for (o, &d) in out.iter_mut().zip(&self.free) {
+            *o = full[d];
+        }
+    }
+
+    /// Writes free values into a full-length vector (constrained entries untouched).
+    pub fn expand(&self, reduced: &[f64], full: &mut [f64]) {
+        for (&r, &d) in reduced.iter().zip(&self.free) {
+            full[d] = r;
+        }
+    }
+
+    /// out ← out − K_fc u_c, reading the prescribed values u_c from the constrained entries
+    /// of the full-length vector `u` (seed 002 eq. 3.3). Visits only constrained columns.
+    pub fn subtract_prescribed(
+        &self,
+        k_full: SparseColMatRef<'_, usize, f64>,
+        u: &[f64],
+        out: &mut [f64],
+    ) {
+        let (col_ptr, row_idx, val) = (
+            k_full.symbolic().col_ptr(),
+            k_full.symbolic().row_idx(),
+            k_full.val(),
+        );
+        for &c in &self.constrained {
+            let uc = u[c];
+            if uc == 0.0 {
+                continue;
+            }
+            for k in col_ptr[c]..col_ptr[c + 1] {
+                let eq = self.equation[row_idx[k]];
+                if eq != CONSTRAINED {
+                    out[eq] -= val[k] * uc;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Matrix2;
+
+    #[test]
+    fn reduced_system_of_a_spring_chain() {
+        // 0 -k1- 1 -k2- 2, dof 0 prescribed to 0.5, dof 2 prescribed to 0: u1 = k1·0.5/(k1+k2).
+        let asm = Assembler::new(3, &[[0, 1], [1, 2]]);
+        let mut k = asm.zeros();
+        asm.add(&mut k, 0, &(Matrix2::new(1.0, -1.0, -1.0, 1.0) * 2.0));
+        asm.add(&mut k, 1, &(Matrix2::new(1.0, -1.0, -1.0, 1.0) * 3.0));
+        let bc = Dirichlet::new(&asm, &[2, 0, 2]).unwrap();
+        assert_eq!(bc.n_free(), 1);
+        assert_eq!(bc.constrained(), &[0, 2]);
+        let mut kr = vec![0.0; bc.nnz()];
+        bc.combine(&[(1.0, &k)], &mut kr);
+        assert_eq!(kr, vec![5.0]);
+        let mut rhs = vec![0.0];
+        bc.subtract_prescribed(asm.matrix(&k), &[0.5, 99.0, 0.0], &mut rhs);
+        assert_eq!(rhs[0] / kr[0], 0.2);
+        assert!(Dirichlet::new(&asm, &[3])
+            .unwrap_err()
+            .to_string()
+            .contains("constrained dof"));
+    }
+}

@@ -1,0 +1,147 @@
+//! Sparse assembly (seed 002 §3.3): the symmetric pattern of the global matrices is computed
+//! once from element connectivity, together with a scatter map from each element-matrix entry
+//! to its slot in the value array. Re-assembling after a parameter change only rewrites values.
+//!
+//! All global matrices of one mesh (stiffness, mass, damping, effective matrices) share one
+//! pattern and differ only in their value arrays.
+
+pub mod dirichlet;
+pub mod loads;
+pub mod plane;
+pub mod solid;
+
+pub use dirichlet::Dirichlet;
+
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use nalgebra::SMatrix;
+
+/// Sparse pattern over all dofs and the element scatter map.
+#[derive(Debug, Clone)]
+pub struct Assembler {
+    symbolic: SymbolicSparseColMat<usize>,
+    /// For element e, `scatter[offsets[e]..offsets[e + 1]]` holds the value index of local
+    /// entry (a, b) at position a·n_e + b.
+    scatter: Vec<usize>,
+    offsets: Vec<usize>,
+}
+
+impl Assembler {
+    /// Builds the pattern for `n_dofs` dofs from each element's global dof list.
+    pub fn new<E: AsRef<[usize]>>(n_dofs: usize, elements: &[E]) -> Self {
+        let mut rows: Vec<Vec<usize>> = vec![Vec::new(); n_dofs];
+        for e in elements {
+            let dofs = e.as_ref();
+            for &c in dofs {
+                rows[c].extend_from_slice(dofs);
+            }
+        }
+        let mut col_ptr = Vec::with_capacity(n_dofs + 1);
+        let mut row_idx = Vec::new();
+        col_ptr.push(0);
+        for col in &mut rows {
+            col.sort_unstable();
+            col.dedup();
+            row_idx.extend_from_slice(col);
+            col_ptr.push(row_idx.len());
+        }
+        let symbolic = SymbolicSparseColMat::new_checked(n_dofs, n_dofs, col_ptr, None, row_idx);
+        let mut scatter = Vec::new();
+        let mut offsets = vec![0];
+        for e in elements {
+            let dofs = e.as_ref();
+            for &r in dofs {
+                for &c in dofs {
+                    scatter.push(slot(&symbolic, r, c));
+                }
+            }
+            offsets.push(scatter.len());
+        }
+        Self {
+            symbolic,
+            scatter,
+            offsets,
+        }
+    }
+
+    /// The pattern (all dofs, both triangles).
+    pub fn symbolic(&self) -> &SymbolicSparseColMat<usize> {
+        &self.symbolic
+    }
+
+    /// Number of stored entries.
+    pub fn nnz(&self) -> usize {
+        self.symbolic.row_idx().len()
+    }
+
+    /// Number of dofs.
+    pub fn n_dofs(&self) -> usize {
+        self.symbolic.ncols()
+    }
+
+    /// A zeroed value array for this pattern.
+    pub fn zeros(&self) -> Vec<f64> {
+        vec![0.0; self.nnz()]
+    }
+
+    /// Adds element matrix `ke` of element `element` into `values`.
+    #[inline]
+    pub fn add<const N: usize>(&self, values: &mut [f64], element: usize, ke: &SMatrix<f64, N, N>) {
+        let map = &self.scatter[self.offsets[element]..self.offsets[element + 1]];
+        debug_assert_eq!(map.len(), N * N);
+        for a in 0..N {
+            for b in 0..N {
+                values[map[a * N + b]] += ke[(a, b)];
+            }
+        }
+    }
+
+    /// Views `values` as a matrix on this pattern.
+    pub fn matrix<'a>(&'a self, values: &'a [f64]) -> SparseColMatRef<'a, usize, f64> {
+        SparseColMatRef::new(self.symbolic.as_ref(), values)
+    }
+}
+
+/// Index of entry (row, col) in the value array of `symbolic` (the entry must exist).
+pub(crate) fn slot(symbolic: &SymbolicSparseColMat<usize>, row: usize, col: usize) -> usize {
+    let start = symbolic.col_ptr()[col];
+    let rows = &symbolic.row_idx()[start..symbolic.col_ptr()[col + 1]];
+    start
+        + rows
+            .binary_search(&row)
+            .expect("pattern contains every element coupling")
+}
+
+/// y ← y + α A x for a matrix on an assembler's pattern (no allocation).
+pub fn mul_add(a: SparseColMatRef<'_, usize, f64>, x: &[f64], alpha: f64, y: &mut [f64]) {
+    use faer::{Accum, ColMut, ColRef, Par};
+    let x = ColRef::from_slice(x).as_mat();
+    let y = ColMut::from_slice_mut(y).as_mat_mut();
+    faer::sparse::linalg::matmul::sparse_dense_matmul(y, Accum::Add, a, x, alpha, Par::Seq);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Matrix2;
+
+    #[test]
+    fn two_springs_in_series() {
+        // dofs 0-1-2 joined by springs k1 = 2, k2 = 3.
+        let asm = Assembler::new(3, &[[0, 1], [1, 2]]);
+        let mut v = asm.zeros();
+        asm.add(&mut v, 0, &(Matrix2::new(1.0, -1.0, -1.0, 1.0) * 2.0));
+        asm.add(&mut v, 1, &(Matrix2::new(1.0, -1.0, -1.0, 1.0) * 3.0));
+        let dense = asm.matrix(&v).to_dense();
+        let expect = [[2.0, -2.0, 0.0], [-2.0, 5.0, -3.0], [0.0, -3.0, 3.0]];
+        for (r, row) in expect.iter().enumerate() {
+            for (c, &e) in row.iter().enumerate() {
+                assert_eq!(dense[(r, c)], e);
+            }
+        }
+        assert_eq!(asm.nnz(), 7);
+        let mut y = vec![1.0; 3];
+        mul_add(asm.matrix(&v), &[1.0, 2.0, 4.0], 1.0, &mut y);
+        // K x = (2 - 4, -2 + 10 - 12, -6 + 12)
+        assert_eq!(y, vec![-1.0, -3.0, 7.0]);
+    }
+}

@@ -1,0 +1,136 @@
+//! Global matrices of a 2D mesh: plane-strain triangles plus axial line elements, with
+//! properties per region tag (tissue).
+
+use super::Assembler;
+use crate::element::{line2, tri3, Elastic};
+use crate::error::{positive, ModelError};
+use crate::mesh::Mesh2d;
+
+/// Properties of a triangle region: elastic constants and density (t/mm³).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Continuum {
+    pub elastic: Elastic,
+    pub density: f64,
+}
+
+/// Properties of a line-element region: Young's modulus (MPa), cross-section (mm² per mm
+/// of out-of-plane depth), density (t/mm³).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Truss {
+    pub young: f64,
+    pub area: f64,
+    pub density: f64,
+}
+
+impl Truss {
+    /// Validated constructor; `name` prefixes the variable names in errors.
+    pub fn new(name: &str, young: f64, area: f64, density: f64) -> Result<Self, ModelError> {
+        Ok(Self {
+            young: positive(&format!("{name}.E"), young)?,
+            area: positive(&format!("{name}.area"), area)?,
+            density: crate::error::non_negative(&format!("{name}.density"), density)?,
+        })
+    }
+}
+
+/// Properties indexed by region tag.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlaneProperties {
+    pub continua: Vec<Continuum>,
+    pub trusses: Vec<Truss>,
+}
+
+impl PlaneProperties {
+    /// Checks that every region tag of `mesh` has properties.
+    pub fn check(&self, mesh: &Mesh2d) -> Result<(), ModelError> {
+        let missing = |tags: &[u16], n: usize, what: &'static str| match tags
+            .iter()
+            .find(|&&t| usize::from(t) >= n)
+        {
+            Some(&t) => Err(ModelError::InvalidParameter {
+                name: what.into(),
+                value: f64::from(t),
+                reason: "region tag has no properties",
+            }),
+            None => Ok(()),
+        };
+        missing(
+            mesh.triangle_regions(),
+            self.continua.len(),
+            "triangle region",
+        )?;
+        missing(mesh.line_regions(), self.trusses.len(), "line region")
+    }
+}
+
+/// Element order for the assembler: all triangles, then all line elements.
+pub fn assembler(mesh: &Mesh2d) -> Assembler {
+    let mut dofs: Vec<Vec<usize>> = (0..mesh.triangles().len())
+        .map(|i| mesh.triangle_dofs(i).to_vec())
+        .collect();
+    dofs.extend((0..mesh.lines().len()).map(|i| mesh.line_dofs(i).to_vec()));
+    Assembler::new(mesh.n_dofs(), &dofs)
+}
+
+/// Writes the stiffness matrix into `values` (overwriting).
+pub fn stiffness(mesh: &Mesh2d, asm: &Assembler, props: &PlaneProperties, values: &mut [f64]) {
+    values.fill(0.0);
+    let n_tri = mesh.triangles().len();
+    let d: Vec<_> = props
+        .continua
+        .iter()
+        .map(|c| c.elastic.plane_strain())
+        .collect();
+    for (i, &r) in mesh.triangle_regions().iter().enumerate() {
+        asm.add(
+            values,
+            i,
+            &tri3::stiffness(&mesh.triangle(i), &d[usize::from(r)]),
+        );
+    }
+    for (i, &r) in mesh.line_regions().iter().enumerate() {
+        let t = &props.trusses[usize::from(r)];
+        asm.add(
+            values,
+            n_tri + i,
+            &line2::stiffness(&mesh.line(i), t.young, t.area),
+        );
+    }
+}
+
+/// Writes the consistent mass matrix into `values` (overwriting).
+pub fn mass(mesh: &Mesh2d, asm: &Assembler, props: &PlaneProperties, values: &mut [f64]) {
+    values.fill(0.0);
+    let n_tri = mesh.triangles().len();
+    for (i, &r) in mesh.triangle_regions().iter().enumerate() {
+        let rho = props.continua[usize::from(r)].density;
+        asm.add(values, i, &tri3::mass_consistent(&mesh.triangle(i), rho));
+    }
+    for (i, &r) in mesh.line_regions().iter().enumerate() {
+        let t = &props.trusses[usize::from(r)];
+        asm.add(
+            values,
+            n_tri + i,
+            &line2::mass_consistent(&mesh.line(i), t.density, t.area),
+        );
+    }
+}
+
+/// Lumped (row-sum) mass per dof.
+pub fn lumped_mass(mesh: &Mesh2d, props: &PlaneProperties) -> Vec<f64> {
+    let mut m = vec![0.0; mesh.n_dofs()];
+    for (i, &r) in mesh.triangle_regions().iter().enumerate() {
+        let lumped = tri3::mass_lumped(&mesh.triangle(i), props.continua[usize::from(r)].density);
+        for (k, d) in mesh.triangle_dofs(i).into_iter().enumerate() {
+            m[d] += lumped[k];
+        }
+    }
+    for (i, &r) in mesh.line_regions().iter().enumerate() {
+        let t = &props.trusses[usize::from(r)];
+        let lumped = line2::mass_lumped(&mesh.line(i), t.density, t.area);
+        for (k, d) in mesh.line_dofs(i).into_iter().enumerate() {
+            m[d] += lumped[k];
+        }
+    }
+    m
+}

@@ -1,0 +1,95 @@
+//! One error type for the finite-element core. Every variant names the offending value and
+//! where it came from, so that a user (or an FMU importer reading the log) can act on it.
+
+use thiserror::Error;
+
+/// Errors raised while building meshes, materials, systems, or while solving them.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum ModelError {
+    /// A scalar parameter is outside its admissible range (or not finite).
+    #[error("invalid value {value} for `{name}`: {reason}")]
+    InvalidParameter {
+        name: String,
+        value: f64,
+        reason: &'static str,
+    },
+    /// An element has zero or negative signed area/volume.
+    #[error(
+        "{kind} element {index} is degenerate or inverted: signed {measure_name} = {measure:e}"
+    )]
+    DegenerateElement {
+        kind: &'static str,
+        index: usize,
+        measure_name: &'static str,
+        measure: f64,
+    },
+    /// An element refers to a node that does not exist.
+    #[error("{kind} element {index} refers to node {node}, but the mesh has {n_nodes} nodes")]
+    NodeOutOfRange {
+        kind: &'static str,
+        index: usize,
+        node: usize,
+        n_nodes: usize,
+    },
+    /// A node is not used by any element (it would have no stiffness).
+    #[error("node {node} is not used by any element")]
+    UnusedNode { node: usize },
+    /// A named node set refers to a node that does not exist, or is missing.
+    #[error("node set `{name}`: {reason}")]
+    NodeSet { name: String, reason: String },
+    /// Array sizes that must agree do not.
+    #[error("size mismatch for `{name}`: expected {expected}, got {got}")]
+    SizeMismatch {
+        name: &'static str,
+        expected: usize,
+        got: usize,
+    },
+    /// The system matrix is singular (a floating body or a missing support): the numerical
+    /// pivot of equation `equation` fell to `ratio` times its diagonal entry.
+    #[error(
+        "singular system (floating body or missing support?): pivot of equation {equation} \
+         (global dof {dof}) is {ratio:e} times its diagonal entry"
+    )]
+    Singular {
+        equation: usize,
+        dof: usize,
+        ratio: f64,
+    },
+    /// The time integration produced non-finite values.
+    #[error("{integrator} diverged at t = {t} s (step {step}): {reason}")]
+    Diverged {
+        integrator: &'static str,
+        t: f64,
+        step: u64,
+        reason: String,
+    },
+    /// Failure inside the sparse linear algebra that is not a singular matrix.
+    #[error("sparse linear algebra failed: {0}")]
+    LinearAlgebra(String),
+}
+
+/// Returns `Ok(value)` when it is finite and strictly positive, else an error naming it.
+pub fn positive(name: &str, value: f64) -> Result<f64, ModelError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(ModelError::InvalidParameter {
+            name: name.to_string(),
+            value,
+            reason: "must be finite and > 0",
+        })
+    }
+}
+
+/// Returns `Ok(value)` when it is finite and non-negative, else an error naming it.
+pub fn non_negative(name: &str, value: f64) -> Result<f64, ModelError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(ModelError::InvalidParameter {
+            name: name.to_string(),
+            value,
+            reason: "must be finite and >= 0",
+        })
+    }
+}

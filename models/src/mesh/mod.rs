@@ -1,0 +1,48 @@
+//! Meshes: a 2D mesh of 3-node triangles plus 2-node line elements sharing its nodes
+//! ([`Mesh2d`]) and a 3D mesh of 4-node tetrahedra with its boundary faces ([`Mesh3d`]).
+//! Both validate on construction; both carry named node sets (supports, loads, landmarks).
+
+pub mod generate;
+mod node_sets;
+mod plane;
+mod solid;
+
+pub use node_sets::NodeSets;
+pub use plane::Mesh2d;
+pub use solid::{BoundaryFace, Mesh3d};
+
+use crate::error::ModelError;
+
+/// Checks that every element node index is in range and every node is used.
+fn check_connectivity<const N: usize>(
+    kind: &'static str,
+    elements: &[[usize; N]],
+    used: &mut [bool],
+) -> Result<(), ModelError> {
+    let n_nodes = used.len();
+    for (index, element) in elements.iter().enumerate() {
+        for &node in element {
+            if node >= n_nodes {
+                return Err(ModelError::NodeOutOfRange {
+                    kind,
+                    index,
+                    node,
+                    n_nodes,
+                });
+            }
+            used[node] = true;
+        }
+    }
+    Ok(())
+}
+
+fn check_all_used(used: &[bool]) -> Result<(), ModelError> {
+    match used.iter().position(|u| !u) {
+        Some(node) => Err(ModelError::UnusedNode { node }),
+        None => Ok(()),
+    }
+}
+
+/// Relative size below which an element's area/volume counts as degenerate (scaled by the
+/// mesh's bounding-box extent to the element's dimension).
+const DEGENERATE_TOL: f64 = 1e-12;

@@ -1,0 +1,184 @@
+//! 3D mesh: nodes, 4-node tetrahedra, boundary faces (derived), named node sets.
+
+use std::collections::HashMap;
+
+use super::{check_all_used, check_connectivity, NodeSets, DEGENERATE_TOL};
+use crate::element::tet4;
+use crate::error::ModelError;
+
+/// A triangle on the mesh boundary: its nodes ordered counter-clockwise seen from outside,
+/// and the tetrahedron it belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BoundaryFace {
+    pub nodes: [usize; 3],
+    pub tet: usize,
+}
+
+/// A validated tetrahedral mesh (all tetrahedra with positive volume).
+#[derive(Debug, Clone)]
+pub struct Mesh3d {
+    nodes: Vec<[f64; 3]>,
+    tets: Vec<[usize; 4]>,
+    boundary: Vec<BoundaryFace>,
+    node_sets: NodeSets,
+}
+
+/// Faces of tetrahedron (0,1,2,3) with outward orientation for positive volume; face k is
+/// opposite node k.
+const TET_FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+
+impl Mesh3d {
+    /// Builds and validates a mesh: indices in range, every node used, no degenerate or
+    /// inverted tetrahedron. Derives the boundary faces.
+    pub fn new(nodes: Vec<[f64; 3]>, tets: Vec<[usize; 4]>) -> Result<Self, ModelError> {
+        let mut used = vec![false; nodes.len()];
+        check_connectivity("tetrahedron", &tets, &mut used)?;
+        check_all_used(&used)?;
+        let mut mesh = Self {
+            nodes,
+            tets,
+            boundary: Vec::new(),
+            node_sets: NodeSets::default(),
+        };
+        mesh.check_shapes()?;
+        mesh.boundary = mesh.find_boundary();
+        Ok(mesh)
+    }
+
+    fn check_shapes(&self) -> Result<(), ModelError> {
+        let tol = DEGENERATE_TOL * self.extent().powi(3);
+        for index in 0..self.tets.len() {
+            let vol = tet4::signed_volume(&self.tet(index));
+            if !(vol > tol) {
+                return Err(ModelError::DegenerateElement {
+                    kind: "tetrahedron",
+                    index,
+                    measure_name: "volume",
+                    measure: vol,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Faces that belong to exactly one tetrahedron, in tetrahedron order.
+    fn find_boundary(&self) -> Vec<BoundaryFace> {
+        let mut count: HashMap<[usize; 3], u32> = HashMap::with_capacity(4 * self.tets.len());
+        let key = |f: [usize; 3]| {
+            let mut k = f;
+            k.sort_unstable();
+            k
+        };
+        let faces = || {
+            self.tets.iter().enumerate().flat_map(|(tet, t)| {
+                TET_FACES.map(|f| BoundaryFace {
+                    nodes: f.map(|i| t[i]),
+                    tet,
+                })
+            })
+        };
+        for f in faces() {
+            *count.entry(key(f.nodes)).or_default() += 1;
+        }
+        faces().filter(|f| count[&key(f.nodes)] == 1).collect()
+    }
+
+    /// Largest bounding-box side length.
+    pub fn extent(&self) -> f64 {
+        (0..3)
+            .map(|d| {
+                let (lo, hi) = self.nodes.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
+                    (lo.min(p[d]), hi.max(p[d]))
+                });
+                hi - lo
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// Adds a named node set (validated).
+    pub fn add_node_set(&mut self, name: &str, nodes: Vec<usize>) -> Result<(), ModelError> {
+        self.node_sets.insert(name, nodes, self.nodes.len())
+    }
+
+    pub fn nodes(&self) -> &[[f64; 3]] {
+        &self.nodes
+    }
+    pub fn tets(&self) -> &[[usize; 4]] {
+        &self.tets
+    }
+    pub fn boundary(&self) -> &[BoundaryFace] {
+        &self.boundary
+    }
+    pub fn node_sets(&self) -> &NodeSets {
+        &self.node_sets
+    }
+
+    /// Number of degrees of freedom (3 per node).
+    pub fn n_dofs(&self) -> usize {
+        3 * self.nodes.len()
+    }
+
+    /// Coordinates of tetrahedron `i`.
+    pub fn tet(&self, i: usize) -> [[f64; 3]; 4] {
+        self.tets[i].map(|n| self.nodes[n])
+    }
+
+    /// Global dofs of tetrahedron `i` in element order.
+    pub fn tet_dofs(&self, i: usize) -> [usize; 12] {
+        let t = self.tets[i];
+        std::array::from_fn(|k| 3 * t[k / 3] + k % 3)
+    }
+
+    /// Boundary faces whose three nodes all belong to node set `name`.
+    pub fn faces_in_set(&self, name: &str) -> Result<Vec<[usize; 3]>, ModelError> {
+        let set = self.node_sets.get(name)?;
+        let inside = |n: &usize| set.binary_search(n).is_ok();
+        Ok(self
+            .boundary
+            .iter()
+            .filter(|f| f.nodes.iter().all(inside))
+            .map(|f| f.nodes)
+            .collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_tet() -> Vec<[f64; 3]> {
+        vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ]
+    }
+
+    #[test]
+    fn single_tet_has_four_outward_faces() {
+        let m = Mesh3d::new(unit_tet(), vec![[0, 1, 2, 3]]).unwrap();
+        assert_eq!(m.boundary().len(), 4);
+        let centroid = nalgebra::Vector3::new(0.25, 0.25, 0.25);
+        for f in m.boundary() {
+            let p = f.nodes.map(|n| m.nodes()[n]);
+            let normal = tet4::face_area_normal(&p[0], &p[1], &p[2]);
+            let to_face = nalgebra::Vector3::from(p[0]) - centroid;
+            assert!(normal.dot(&to_face) > 0.0);
+        }
+    }
+
+    #[test]
+    fn inverted_tet_is_named_with_its_volume() {
+        let err = Mesh3d::new(unit_tet(), vec![[0, 2, 1, 3]]).unwrap_err();
+        assert_eq!(
+            err,
+            ModelError::DegenerateElement {
+                kind: "tetrahedron",
+                index: 0,
+                measure_name: "volume",
+                measure: -1.0 / 6.0
+            }
+        );
+    }
+}

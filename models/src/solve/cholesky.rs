@@ -1,0 +1,251 @@
+//! Sparse Cholesky factorization (faer) with a fill-reducing AMD ordering. The symbolic
+//! analysis is done once per pattern; numeric refactorization and solves reuse it and the
+//! preallocated workspace, so a solve allocates nothing.
+//!
+//! A singular or nearly singular matrix (a floating body, a missing support, a mechanism)
+//! is reported as [`ModelError::Singular`]: faer refuses non-positive pivots, and we also
+//! refuse pivots that fell below [`PIVOT_RATIO_TOL`] times their diagonal entry, which is
+//! where round-off hides a zero pivot.
+
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::cholesky::llt::factor::{LltError, LltParams, LltRegularization};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, simplicial::SimplicialLltRef, supernodal::SupernodalLltRef,
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par, Side, Spec};
+
+use crate::error::ModelError;
+
+/// Smallest admissible ratio of a Cholesky pivot L_jj² to its diagonal entry A_jj.
+///
+/// For a rigid-body mode the exact pivot is zero and round-off leaves ~1e-16…1e-13 of the
+/// diagonal; a physical stiffness contrast of 1e6 gives ratios near 1e-6.
+pub const PIVOT_RATIO_TOL: f64 = 1e-10;
+
+/// How faer lays out the factor. Simplicial is faster per solve for 2D meshes; supernodal
+/// is much faster to factorize for 3D meshes (measured; see BENCHMARKS.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Layout {
+    #[default]
+    Simplicial,
+    Supernodal,
+}
+
+/// A symbolic + numeric Cholesky factorization with its workspace.
+pub struct Cholesky {
+    symbolic: SymbolicCholesky<usize>,
+    l_values: Vec<f64>,
+    mem: MemBuffer,
+    /// Equation of each pivot in the original numbering (new → old).
+    perm_fwd: Vec<usize>,
+    factorized: bool,
+}
+
+impl std::fmt::Debug for Cholesky {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Cholesky")
+            .field("n", &self.symbolic.nrows())
+            .field("l_nnz", &self.l_values.len())
+            .finish()
+    }
+}
+
+impl Cholesky {
+    /// Symbolic analysis (AMD ordering, elimination tree, factor pattern) of a symmetric
+    /// pattern stored with both triangles.
+    pub fn analyze(
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        layout: Layout,
+    ) -> Result<Self, ModelError> {
+        let threshold = match layout {
+            Layout::Simplicial => SupernodalThreshold::FORCE_SIMPLICIAL,
+            Layout::Supernodal => SupernodalThreshold::FORCE_SUPERNODAL,
+        };
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: threshold,
+            ..Default::default()
+        };
+        let symbolic =
+            factorize_symbolic_cholesky(pattern, Side::Lower, SymmetricOrdering::Amd, params)
+                .map_err(|e| ModelError::LinearAlgebra(format!("symbolic Cholesky: {e:?}")))?;
+        let req = StackReq::any_of(&[
+            symbolic
+                .factorize_numeric_llt_scratch::<f64>(Par::Seq, Spec::<LltParams, f64>::default()),
+            symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
+        ]);
+        let perm_fwd = match symbolic.perm() {
+            Some(p) => p.arrays().0.to_vec(),
+            None => (0..symbolic.nrows()).collect(),
+        };
+        Ok(Self {
+            l_values: vec![0.0; symbolic.len_val()],
+            symbolic,
+            mem: MemBuffer::new(req),
+            perm_fwd,
+            factorized: false,
+        })
+    }
+
+    /// Number of equations.
+    pub fn n(&self) -> usize {
+        self.symbolic.nrows()
+    }
+
+    /// Number of stored values of the factor L.
+    pub fn factor_nnz(&self) -> usize {
+        self.l_values.len()
+    }
+
+    /// Numeric factorization of `a` (same pattern as analysed). On error the previous
+    /// factorization is invalidated, so a later solve cannot silently use stale values.
+    pub fn factorize(&mut self, a: SparseColMatRef<'_, usize, f64>) -> Result<(), ModelError> {
+        self.factorized = false;
+        let stack = MemStack::new(&mut self.mem);
+        let result = self.symbolic.factorize_numeric_llt(
+            &mut self.l_values,
+            a,
+            Side::Lower,
+            LltRegularization::default(),
+            Par::Seq,
+            stack,
+            Spec::default(),
+        );
+        if let Err(LltError::NonPositivePivot { index }) = result {
+            let equation = self.perm_fwd.get(index).copied().unwrap_or(index);
+            return Err(ModelError::Singular {
+                equation,
+                dof: equation,
+                ratio: 0.0,
+            });
+        }
+        self.check_pivots(a)?;
+        self.factorized = true;
+        Ok(())
+    }
+
+    /// Refuses pivots below `PIVOT_RATIO_TOL` times their diagonal entry.
+    fn check_pivots(&self, a: SparseColMatRef<'_, usize, f64>) -> Result<(), ModelError> {
+        let mut worst = (f64::INFINITY, 0);
+        self.for_each_pivot(|j, l_jj| {
+            let eq = self.perm_fwd[j];
+            let ratio = l_jj * l_jj / diagonal(a, eq);
+            if !(ratio >= worst.0) {
+                worst = (ratio, eq);
+            }
+        });
+        if worst.0 < PIVOT_RATIO_TOL || worst.0.is_nan() {
+            return Err(ModelError::Singular {
+                equation: worst.1,
+                dof: worst.1,
+                ratio: worst.0,
+            });
+        }
+        Ok(())
+    }
+
+    /// Calls `f(j, L_jj)` for each pivot in elimination order.
+    fn for_each_pivot(&self, mut f: impl FnMut(usize, f64)) {
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(s) => {
+                let l = SimplicialLltRef::new(s, &self.l_values);
+                let (col_ptr, row_idx) = (s.col_ptr(), s.row_idx());
+                for j in 0..s.nrows() {
+                    let k = (col_ptr[j]..col_ptr[j + 1]).find(|&k| row_idx[k] == j);
+                    f(j, k.map_or(0.0, |k| l.values()[k]));
+                }
+            }
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                let l = SupernodalLltRef::new(s, &self.l_values);
+                for sn in 0..s.n_supernodes() {
+                    let node = l.supernode(sn);
+                    let val = node.val();
+                    for c in 0..val.ncols() {
+                        f(node.start() + c, val[(c, c)]);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Solves A x = b in place (`rhs` holds b on entry, x on return). Allocates nothing.
+    ///
+    /// # Panics
+    /// If called before a successful [`factorize`](Self::factorize) — a programming error,
+    /// since every caller factorizes in its constructor or refuses to proceed on error.
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        assert!(
+            self.factorized,
+            "Cholesky::solve_in_place before a successful factorize"
+        );
+        let n = rhs.len();
+        let stack = MemStack::new(&mut self.mem);
+        let rhs = MatMut::from_column_major_slice_mut(rhs, n, 1);
+        LltRef::new(&self.symbolic, &self.l_values).solve_in_place_with_conj(
+            Conj::No,
+            rhs,
+            Par::Seq,
+            stack,
+        );
+    }
+}
+
+/// Diagonal entry A_jj of a matrix with sorted row indices.
+fn diagonal(a: SparseColMatRef<'_, usize, f64>, j: usize) -> f64 {
+    let s = a.symbolic();
+    let (start, end) = (s.col_ptr()[j], s.col_ptr()[j + 1]);
+    s.row_idx()[start..end]
+        .binary_search(&j)
+        .map_or(0.0, |k| a.val()[start + k])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assembly::Assembler;
+    use nalgebra::Matrix2;
+
+    fn chain(n: usize, k: f64) -> (Assembler, Vec<f64>) {
+        let elems: Vec<[usize; 2]> = (0..n - 1).map(|i| [i, i + 1]).collect();
+        let asm = Assembler::new(n, &elems);
+        let mut v = asm.zeros();
+        for e in 0..n - 1 {
+            asm.add(&mut v, e, &(Matrix2::new(1.0, -1.0, -1.0, 1.0) * k));
+        }
+        (asm, v)
+    }
+
+    #[test]
+    fn solves_a_grounded_chain_in_both_layouts() {
+        for layout in [Layout::Simplicial, Layout::Supernodal] {
+            let (asm, mut v) = chain(50, 3.0);
+            // Ground node 0 with a spring of the same stiffness.
+            let d0 = crate::assembly::slot(asm.symbolic(), 0, 0);
+            v[d0] += 3.0;
+            let mut chol = Cholesky::analyze(asm.symbolic().as_ref(), layout).unwrap();
+            chol.factorize(asm.matrix(&v)).unwrap();
+            // Unit load at the free end: u_i = (i + 1)/k.
+            let mut x = vec![0.0; 50];
+            x[49] = 1.0;
+            chol.solve_in_place(&mut x);
+            for (i, xi) in x.iter().enumerate() {
+                assert!((xi - (i + 1) as f64 / 3.0).abs() < 1e-11, "{layout:?} {i}");
+            }
+        }
+    }
+
+    #[test]
+    fn floating_chain_is_singular_in_both_layouts() {
+        for layout in [Layout::Simplicial, Layout::Supernodal] {
+            let (asm, v) = chain(40, 7.0);
+            let mut chol = Cholesky::analyze(asm.symbolic().as_ref(), layout).unwrap();
+            let err = chol.factorize(asm.matrix(&v)).unwrap_err();
+            assert!(
+                matches!(err, ModelError::Singular { .. }),
+                "{layout:?}: {err}"
+            );
+        }
+    }
+}

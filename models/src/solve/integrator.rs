@@ -1,0 +1,182 @@
+//! The common interface of the time integrators for M ü + C u̇ + K u = f(t) (seed 003 App. B).
+//!
+//! Life cycle: [`Integrator::prepare`] for a step size (implicit schemes factor their
+//! effective matrix there, explicit ones find their critical step), [`Integrator::start`]
+//! with the initial state, then [`Integrator::step`] as often as needed. After a change of
+//! the structure's matrices or of `dt`, call `prepare` again: it refactorizes numerically on
+//! the existing symbolic analysis and the run continues from the current state. A step
+//! allocates nothing.
+
+use super::structure::Structure;
+use crate::error::ModelError;
+
+/// The external load: `load(t, f)` writes f(t) (free dofs, N) into `f`.
+pub type Load<'a> = dyn FnMut(f64, &mut [f64]) + 'a;
+
+/// Displacement, velocity and acceleration on the free dofs at time `t`.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct State {
+    pub t: f64,
+    pub u: Vec<f64>,
+    pub v: Vec<f64>,
+    pub a: Vec<f64>,
+    /// Steps taken since `start`.
+    pub steps: u64,
+}
+
+impl State {
+    /// A state of `n` dofs at rest at time zero.
+    pub fn at_rest(n: usize) -> Self {
+        Self {
+            t: 0.0,
+            u: vec![0.0; n],
+            v: vec![0.0; n],
+            a: vec![0.0; n],
+            steps: 0,
+        }
+    }
+}
+
+/// The selectable integrators.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum IntegratorKind {
+    Houbolt,
+    Newmark,
+    CentralDifference,
+    Rk4,
+}
+
+impl IntegratorKind {
+    pub const ALL: [Self; 4] = [
+        Self::Houbolt,
+        Self::Newmark,
+        Self::CentralDifference,
+        Self::Rk4,
+    ];
+
+    /// Lower-case name used in configuration files and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Houbolt => "houbolt",
+            Self::Newmark => "newmark",
+            Self::CentralDifference => "central_difference",
+            Self::Rk4 => "rk4",
+        }
+    }
+
+    /// Parses a name as given by [`name`](Self::name).
+    pub fn parse(name: &str) -> Result<Self, ModelError> {
+        Self::ALL
+            .into_iter()
+            .find(|k| k.name() == name)
+            .ok_or_else(|| ModelError::InvalidParameter {
+                name: format!("integrator `{name}`"),
+                value: f64::NAN,
+                reason: "unknown; use houbolt, newmark, central_difference or rk4",
+            })
+    }
+
+    /// A new, unprepared integrator of this kind.
+    pub fn create(self) -> Box<dyn Integrator + Send> {
+        match self {
+            Self::Houbolt => Box::new(super::Houbolt::default()),
+            Self::Newmark => Box::new(super::Newmark::default()),
+            Self::CentralDifference => Box::new(super::CentralDifference::default()),
+            Self::Rk4 => Box::new(super::Rk4::default()),
+        }
+    }
+}
+
+/// A time-stepping scheme.
+pub trait Integrator {
+    /// Which scheme this is.
+    fn kind(&self) -> IntegratorKind;
+
+    /// Makes the scheme ready for steps of size `dt` on the structure's current matrices.
+    fn prepare(&mut self, s: &Structure, dt: f64) -> Result<(), ModelError>;
+
+    /// Sets the initial state (t₀, u₀, v₀); the initial acceleration follows from the
+    /// equation of motion at t₀. Requires a prior `prepare`.
+    fn start(
+        &mut self,
+        s: &Structure,
+        t0: f64,
+        u0: &[f64],
+        v0: &[f64],
+        load: &mut Load<'_>,
+    ) -> Result<(), ModelError>;
+
+    /// Advances the state by one step. Allocates nothing.
+    fn step(&mut self, s: &Structure, load: &mut Load<'_>) -> Result<(), ModelError>;
+
+    /// The current state.
+    fn state(&self) -> &State;
+
+    /// The step size the scheme is prepared for.
+    fn dt(&self) -> f64;
+
+    /// Largest stable step for the prepared structure (undamped), or `None` if the scheme
+    /// is unconditionally stable.
+    fn critical_time_step(&self) -> Option<f64> {
+        None
+    }
+}
+
+/// Errors with `Diverged` if any displacement is not finite.
+pub(crate) fn check_finite(kind: IntegratorKind, state: &State) -> Result<(), ModelError> {
+    match state.u.iter().position(|x| !x.is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(ModelError::Diverged {
+            integrator: kind.name(),
+            t: state.t,
+            step: state.steps,
+            reason: format!("displacement of equation {i} is {}", state.u[i]),
+        }),
+    }
+}
+
+/// Validates a step size.
+pub(crate) fn check_dt(dt: f64) -> Result<f64, ModelError> {
+    crate::error::positive("dt", dt)
+}
+
+/// The state (t₀, u₀, v₀) with zero acceleration, after checking the lengths.
+pub(crate) fn initial_state(
+    s: &Structure,
+    t0: f64,
+    u0: &[f64],
+    v0: &[f64],
+) -> Result<State, ModelError> {
+    for (name, x) in [("u0", u0), ("v0", v0)] {
+        if x.len() != s.n() {
+            return Err(ModelError::SizeMismatch {
+                name,
+                expected: s.n(),
+                got: x.len(),
+            });
+        }
+    }
+    Ok(State {
+        t: t0,
+        u: u0.to_vec(),
+        v: v0.to_vec(),
+        a: vec![0.0; s.n()],
+        steps: 0,
+    })
+}
+
+/// Initial acceleration from the consistent mass: M a₀ = f(t₀) − C v₀ − K u₀. One extra
+/// factorization of M at start-up (not in the step loop).
+pub(crate) fn consistent_acceleration(
+    s: &Structure,
+    state: &mut State,
+    load: &mut Load<'_>,
+) -> Result<(), ModelError> {
+    let mut f = vec![0.0; s.n()];
+    load(state.t, &mut f);
+    s.residual(&f, &state.u, &state.v, &mut state.a);
+    let mut chol = s.analyze()?;
+    chol.factorize(s.mass())?;
+    chol.solve_in_place(&mut state.a);
+    Ok(())
+}

@@ -1,0 +1,21 @@
+//! Linear solvers: sparse Cholesky, the static solve, and the time integrators behind the
+//! [`Integrator`] trait (one file each: houbolt, newmark, central_difference, rk4).
+
+pub mod central_difference;
+pub mod cholesky;
+pub mod houbolt;
+pub mod integrator;
+pub mod newmark;
+pub mod rk4;
+pub mod spectrum;
+pub mod statics;
+pub mod structure;
+
+pub use central_difference::CentralDifference;
+pub use cholesky::{Cholesky, Layout};
+pub use houbolt::Houbolt;
+pub use integrator::{Integrator, IntegratorKind, Load, State};
+pub use newmark::Newmark;
+pub use rk4::Rk4;
+pub use statics::Statics;
+pub use structure::{Damping, Structure};

@@ -1,0 +1,206 @@
+//! The semi-discrete equation of motion M ü + C u̇ + K u = f(t) (seed 003 eq. 2.1) on the free
+//! dofs of a mesh: reduced stiffness, consistent mass, damping (all on one pattern) and the
+//! lumped mass used by the explicit schemes. Supports are homogeneous (u = 0) in dynamics.
+
+use faer::sparse::SparseColMatRef;
+
+use super::cholesky::{Cholesky, Layout};
+use crate::assembly::{mul_add, Dirichlet};
+use crate::error::{non_negative, ModelError};
+
+/// Rayleigh damping C = α M + β K (α in 1/s, β in s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Damping {
+    pub alpha: f64,
+    pub beta: f64,
+}
+
+impl Damping {
+    /// No damping.
+    pub const NONE: Self = Self {
+        alpha: 0.0,
+        beta: 0.0,
+    };
+
+    fn check(&self) -> Result<(), ModelError> {
+        non_negative("rayleigh.alpha", self.alpha)?;
+        non_negative("rayleigh.beta", self.beta)?;
+        Ok(())
+    }
+}
+
+/// M, C, K on the free dofs, plus the lumped mass.
+#[derive(Debug, Clone)]
+pub struct Structure {
+    bc: Dirichlet,
+    k: Vec<f64>,
+    m: Vec<f64>,
+    c: Vec<f64>,
+    lumped: Vec<f64>,
+    damping: Damping,
+    layout: Layout,
+}
+
+impl Structure {
+    /// Gathers the reduced matrices from full-pattern values `k_full`, `m_full` and the
+    /// full-length lumped mass. `layout` is the Cholesky layout implicit integrators use.
+    pub fn new(
+        bc: Dirichlet,
+        k_full: &[f64],
+        m_full: &[f64],
+        lumped_full: &[f64],
+        damping: Damping,
+        layout: Layout,
+    ) -> Result<Self, ModelError> {
+        damping.check()?;
+        let nnz = bc.nnz();
+        let mut lumped = vec![0.0; bc.n_free()];
+        bc.reduce(lumped_full, &mut lumped);
+        if let Some(i) = lumped.iter().position(|&m| !(m > 0.0 && m.is_finite())) {
+            return Err(ModelError::InvalidParameter {
+                name: format!("lumped mass of equation {i} (dof {})", bc.free()[i]),
+                value: lumped[i],
+                reason: "every free dof needs a positive mass",
+            });
+        }
+        let mut s = Self {
+            k: vec![0.0; nnz],
+            m: vec![0.0; nnz],
+            c: vec![0.0; nnz],
+            bc,
+            lumped,
+            damping,
+            layout,
+        };
+        s.bc.combine(&[(1.0, m_full)], &mut s.m);
+        s.set_stiffness(k_full);
+        Ok(s)
+    }
+
+    /// Replaces the stiffness (after a parameter change) and rebuilds the damping matrix.
+    /// Integrators must be `prepare`d again afterwards.
+    pub fn set_stiffness(&mut self, k_full: &[f64]) {
+        self.bc.combine(&[(1.0, k_full)], &mut self.k);
+        self.rebuild_damping();
+    }
+
+    /// Replaces the damping model. Integrators must be `prepare`d again afterwards.
+    pub fn set_damping(&mut self, damping: Damping) -> Result<(), ModelError> {
+        damping.check()?;
+        self.damping = damping;
+        self.rebuild_damping();
+        Ok(())
+    }
+
+    fn rebuild_damping(&mut self) {
+        let Damping { alpha, beta } = self.damping;
+        for ((c, m), k) in self.c.iter_mut().zip(&self.m).zip(&self.k) {
+            *c = alpha * m + beta * k;
+        }
+    }
+
+    /// Number of equations.
+    pub fn n(&self) -> usize {
+        self.bc.n_free()
+    }
+    pub fn dirichlet(&self) -> &Dirichlet {
+        &self.bc
+    }
+    pub fn damping(&self) -> Damping {
+        self.damping
+    }
+    pub fn layout(&self) -> Layout {
+        self.layout
+    }
+    pub fn stiffness(&self) -> SparseColMatRef<'_, usize, f64> {
+        self.bc.matrix(&self.k)
+    }
+    pub fn mass(&self) -> SparseColMatRef<'_, usize, f64> {
+        self.bc.matrix(&self.m)
+    }
+    pub fn damping_matrix(&self) -> SparseColMatRef<'_, usize, f64> {
+        self.bc.matrix(&self.c)
+    }
+    /// Lumped (diagonal) mass per equation.
+    pub fn lumped_mass(&self) -> &[f64] {
+        &self.lumped
+    }
+
+    /// Values of the effective matrix c_m M + c_c C + K on the reduced pattern.
+    pub fn effective(&self, c_m: f64, c_c: f64, out: &mut [f64]) {
+        for (((o, m), c), k) in out.iter_mut().zip(&self.m).zip(&self.c).zip(&self.k) {
+            *o = c_m * m + c_c * c + k;
+        }
+    }
+
+    /// A Cholesky factorization analysed for this structure's reduced pattern.
+    pub fn analyze(&self) -> Result<Cholesky, ModelError> {
+        Cholesky::analyze(self.bc.symbolic().as_ref(), self.layout)
+    }
+
+    /// out = f − C v − K u (the unbalanced force). Allocates nothing.
+    pub fn residual(&self, f: &[f64], u: &[f64], v: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(f);
+        mul_add(self.stiffness(), u, -1.0, out);
+        if self.damping != Damping::NONE {
+            mul_add(self.damping_matrix(), v, -1.0, out);
+        }
+    }
+
+    /// Strain energy ½uᵀKu + kinetic energy ½vᵀMv (consistent mass).
+    pub fn energy(&self, u: &[f64], v: &[f64], work: &mut [f64]) -> f64 {
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        work.fill(0.0);
+        mul_add(self.stiffness(), u, 1.0, work);
+        let strain = dot(work, u);
+        work.fill(0.0);
+        mul_add(self.mass(), v, 1.0, work);
+        0.5 * (strain + dot(work, v))
+    }
+}
+
+impl Structure {
+    /// out ← out + M x_m + C x_c (the history terms of the implicit schemes).
+    pub fn add_mass_damping(&self, x_m: &[f64], x_c: &[f64], out: &mut [f64]) {
+        mul_add(self.mass(), x_m, 1.0, out);
+        if self.damping != Damping::NONE {
+            mul_add(self.damping_matrix(), x_c, 1.0, out);
+        }
+    }
+}
+
+/// The factorized effective matrix c_m M + c_c C + K of an implicit scheme. The symbolic
+/// analysis is done on first use and kept; later calls refactorize numerically only.
+#[derive(Debug, Default)]
+pub(crate) struct Effective {
+    chol: Option<Cholesky>,
+    values: Vec<f64>,
+}
+
+impl Effective {
+    /// Forms and factorizes c_m M + c_c C + K.
+    pub(crate) fn factorize(
+        &mut self,
+        s: &Structure,
+        c_m: f64,
+        c_c: f64,
+    ) -> Result<(), ModelError> {
+        let chol = match &mut self.chol {
+            Some(c) if c.n() == s.n() => c,
+            slot => {
+                self.values = vec![0.0; s.dirichlet().nnz()];
+                slot.insert(s.analyze()?)
+            }
+        };
+        s.effective(c_m, c_c, &mut self.values);
+        chol.factorize(s.dirichlet().matrix(&self.values))
+    }
+
+    /// Solves in place with the last factorization.
+    pub(crate) fn solve(&mut self, rhs: &mut [f64]) {
+        self.chol
+            .as_mut()
+            .expect("an integrator is prepared before it steps")
+            .solve_in_place(rhs);
+    }
+}
