@@ -7,5 +7,6 @@ pub mod error;
 pub mod mesh;
 pub mod solve;
 pub mod stress;
+pub mod verify;
 
 pub use error::ModelError;

@@ -1,0 +1,87 @@
+//! The benchmark-sized problems of the FE-core issue: a 2D mesh of about 6,000 triangles
+//! with 170 line elements (the size of seed 003's abdomen model) and the cut block's
+//! 6 × 16 × 14 cubes × 5 tetrahedra (seed 002 §3.1), both with soft-tissue properties.
+
+use crate::assembly::plane::{Continuum, PlaneProperties, Truss};
+use crate::element::Elastic;
+use crate::error::ModelError;
+use crate::mesh::{generate, Mesh2d, Mesh3d};
+
+/// A 2D problem: mesh, properties, constrained dofs.
+#[derive(Debug, Clone)]
+pub struct PlaneProblem {
+    pub mesh: Mesh2d,
+    pub props: PlaneProperties,
+    pub fixed: Vec<usize>,
+}
+
+/// A 300 × 250 mm rectangle of `nx` × `ny` cells (2 triangles each; 60 × 50 gives 6,000),
+/// line elements along the top, right and bottom edges, the left edge fixed. Cavity
+/// E = 5 kPa, ν = 0.45; line elements E = 0.5 MPa, 1 mm²/mm; density 1e-9 t/mm³.
+pub fn plane(nx: usize, ny: usize) -> Result<PlaneProblem, ModelError> {
+    let rect = generate::rectangle(300.0, 250.0, nx, ny)?;
+    let sets = rect.node_sets();
+    let mut lines = Vec::new();
+    for set in ["top", "right", "bottom"] {
+        let nodes = sets.get(set)?;
+        lines.extend(nodes.windows(2).map(|w| [w[0], w[1]]));
+    }
+    let fixed = sets
+        .get("left")?
+        .iter()
+        .flat_map(|n| [2 * n, 2 * n + 1])
+        .collect();
+    let n_lines = lines.len();
+    let mesh = Mesh2d::new(
+        rect.nodes().to_vec(),
+        rect.triangles().to_vec(),
+        rect.triangle_regions().to_vec(),
+        lines,
+        vec![0; n_lines],
+    )?;
+    let props = PlaneProperties {
+        continua: vec![Continuum {
+            elastic: Elastic::new("cavity", 0.005, 0.45)?,
+            density: 1e-9,
+        }],
+        trusses: vec![Truss::new("wall", 0.5, 1.0, 1e-9)?],
+    };
+    Ok(PlaneProblem { mesh, props, fixed })
+}
+
+/// A 3D problem: mesh, material, constrained dofs and their prescribed values.
+#[derive(Debug, Clone)]
+pub struct BlockProblem {
+    pub mesh: Mesh3d,
+    pub material: Continuum,
+    pub fixed: Vec<usize>,
+    /// Full-length vector holding the prescribed displacement at constrained dofs.
+    pub prescribed: Vec<f64>,
+}
+
+/// Seed 002's block: 100 × 80 × 17 mm, `cells` cubes (default 6 × 16 × 14), face y = 0
+/// clamped, face y = 80 pulled by `pull` mm in y (x, z free); E = 0.0385 MPa, ν = 0.43
+/// (seed 002 Table 4.1).
+pub fn block(cells: [usize; 3], pull: f64) -> Result<BlockProblem, ModelError> {
+    let mesh = generate::block([100.0, 80.0, 17.0], cells)?;
+    let sets = mesh.node_sets();
+    let mut fixed: Vec<usize> = sets
+        .get("y0")?
+        .iter()
+        .flat_map(|n| [3 * n, 3 * n + 1, 3 * n + 2])
+        .collect();
+    let mut prescribed = vec![0.0; mesh.n_dofs()];
+    for n in sets.get("y1")? {
+        fixed.push(3 * n + 1);
+        prescribed[3 * n + 1] = pull;
+    }
+    Ok(BlockProblem {
+        material: Continuum {
+            elastic: Elastic::new("silicone", 0.0385, 0.43)?,
+            density: 1.1e-9,
+        },
+        mesh,
+        fixed,
+        prescribed,
+    })
+}
