@@ -25,6 +25,20 @@ pub struct State {
 }
 
 impl State {
+    /// Copies `other` into `self` without allocating when the lengths agree.
+    pub fn copy_from(&mut self, other: &State) {
+        self.t = other.t;
+        self.steps = other.steps;
+        for (dst, src) in [
+            (&mut self.u, &other.u),
+            (&mut self.v, &other.v),
+            (&mut self.a, &other.a),
+        ] {
+            dst.clear();
+            dst.extend_from_slice(src);
+        }
+    }
+
     /// A state of `n` dofs at rest at time zero.
     pub fn at_rest(n: usize) -> Self {
         Self {

@@ -23,6 +23,14 @@ pub struct Newmark {
     damping_part: Vec<f64>,
 }
 
+impl Newmark {
+    /// Continues from `state` (as Houbolt's starting procedure does) without recomputing
+    /// the acceleration; requires a prior `prepare` for the same structure.
+    pub(crate) fn restart_from(&mut self, state: &State) {
+        self.state.copy_from(state);
+    }
+}
+
 impl Integrator for Newmark {
     fn kind(&self) -> IntegratorKind {
         IntegratorKind::Newmark
