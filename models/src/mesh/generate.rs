@@ -15,12 +15,22 @@ fn divisions(name: &str, n: usize) -> Result<usize, ModelError> {
     Ok(n)
 }
 
+/// How the cells of a structured triangle mesh are split.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Diagonals {
+    /// Diagonal direction alternates from cell to cell (no preferred direction; linear
+    /// triangles on this pattern do not lock as ν → 0.5 in the tests we ran).
+    Alternating,
+    /// Every cell split along the same diagonal (locks badly as ν → 0.5).
+    Uniform,
+}
+
 /// Maps a structured (nx+1)×(ny+1) grid `point(i, j)` to a triangle mesh (two triangles per
-/// cell, diagonals alternating so that the mesh has no preferred direction). Node sets:
-/// `i0`, `i1` (first/last column), `j0`, `j1` (first/last row).
+/// cell). Node sets: `i0`, `i1` (first/last column), `j0`, `j1` (first/last row).
 fn grid_triangles(
     nx: usize,
     ny: usize,
+    diagonals: Diagonals,
     point: impl Fn(usize, usize) -> [f64; 2],
 ) -> Result<Mesh2d, ModelError> {
     let id = |i: usize, j: usize| i + (nx + 1) * j;
@@ -32,7 +42,7 @@ fn grid_triangles(
     for j in 0..ny {
         for i in 0..nx {
             let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            if (i + j) % 2 == 0 {
+            if diagonals == Diagonals::Uniform || (i + j) % 2 == 0 {
                 tris.extend([[a, b, c], [a, c, d]]);
             } else {
                 tris.extend([[a, b, d], [b, c, d]]);
@@ -48,12 +58,23 @@ fn grid_triangles(
     Ok(mesh)
 }
 
-/// Rectangle [0, lx] × [0, ly] with nx × ny cells of two triangles each. Node sets `left`
-/// (x = 0), `right` (x = lx), `bottom` (y = 0), `top` (y = ly).
+/// Rectangle [0, lx] × [0, ly] with nx × ny cells of two triangles each, alternating
+/// diagonals. Node sets `left` (x = 0), `right` (x = lx), `bottom` (y = 0), `top` (y = ly).
 pub fn rectangle(lx: f64, ly: f64, nx: usize, ny: usize) -> Result<Mesh2d, ModelError> {
+    rectangle_with(lx, ly, nx, ny, Diagonals::Alternating)
+}
+
+/// [`rectangle`] with a choice of diagonal pattern.
+pub fn rectangle_with(
+    lx: f64,
+    ly: f64,
+    nx: usize,
+    ny: usize,
+    diagonals: Diagonals,
+) -> Result<Mesh2d, ModelError> {
     let (lx, ly) = (positive("lx", lx)?, positive("ly", ly)?);
     let (nx, ny) = (divisions("nx", nx)?, divisions("ny", ny)?);
-    let mut mesh = grid_triangles(nx, ny, |i, j| {
+    let mut mesh = grid_triangles(nx, ny, diagonals, |i, j| {
         [lx * i as f64 / nx as f64, ly * j as f64 / ny as f64]
     })?;
     rename(
@@ -80,7 +101,7 @@ pub fn quarter_annulus(a: f64, b: f64, nr: usize, nt: usize) -> Result<Mesh2d, M
         });
     }
     let (nr, nt) = (divisions("nr", nr)?, divisions("nt", nt)?);
-    let mut mesh = grid_triangles(nr, nt, |i, j| {
+    let mut mesh = grid_triangles(nr, nt, Diagonals::Alternating, |i, j| {
         let r = a + (b - a) * i as f64 / nr as f64;
         let t = std::f64::consts::FRAC_PI_2 * j as f64 / nt as f64;
         [r * t.cos(), r * t.sin()]

@@ -84,6 +84,28 @@ impl Mesh2d {
             .fold(0.0, f64::max)
     }
 
+    /// The same mesh with line elements `lines` (region tags `line_regions`) added on its
+    /// nodes; node sets are kept.
+    pub fn with_lines(
+        self,
+        lines: Vec<[usize; 2]>,
+        line_regions: Vec<u16>,
+    ) -> Result<Self, ModelError> {
+        let mut all_lines = self.lines;
+        all_lines.extend(lines);
+        let mut all_regions = self.line_regions;
+        all_regions.extend(line_regions);
+        let mut mesh = Self::new(
+            self.nodes,
+            self.triangles,
+            self.triangle_regions,
+            all_lines,
+            all_regions,
+        )?;
+        mesh.node_sets = self.node_sets;
+        Ok(mesh)
+    }
+
     /// Adds a named node set (validated).
     pub fn add_node_set(&mut self, name: &str, nodes: Vec<usize>) -> Result<(), ModelError> {
         self.node_sets.insert(name, nodes, self.nodes.len())

@@ -25,6 +25,9 @@ pub struct LameSolution {
     pub dofs: usize,
     /// ‖u_h − u‖_L2 / ‖u‖_L2.
     pub l2_error: f64,
+    /// Area-weighted RMS error of the element stresses (σxx, σyy, σxy at the centroid)
+    /// relative to the RMS of the exact stress.
+    pub stress_error: f64,
     /// FE radial displacement at (a, 0) and the exact value.
     pub inner_fe: f64,
     pub inner_exact: f64,
@@ -74,9 +77,41 @@ impl Lame {
             triangles: mesh.triangles().len(),
             dofs: statics.dirichlet().n_free(),
             l2_error: self.l2_error(&mesh, &u),
+            stress_error: self.stress_error(&mesh, &u),
             inner_fe: u[2 * inner[0]],
             inner_exact: self.radial(self.a),
         })
+    }
+
+    /// Exact Cartesian stress (σxx, σyy, σxy): σrr = A − B/r², σθθ = A + B/r² with
+    /// A = p a²/(b² − a²), B = p a² b²/(b² − a²).
+    fn exact_stress(&self, x: [f64; 2]) -> [f64; 3] {
+        let (a2, b2) = (self.a * self.a, self.b * self.b);
+        let big_a = self.p * a2 / (b2 - a2);
+        let big_b = big_a * b2;
+        let r2 = x[0] * x[0] + x[1] * x[1];
+        let (srr, stt) = (big_a - big_b / r2, big_a + big_b / r2);
+        let (c, s) = (x[0] / r2.sqrt(), x[1] / r2.sqrt());
+        [
+            srr * c * c + stt * s * s,
+            srr * s * s + stt * c * c,
+            (srr - stt) * s * c,
+        ]
+    }
+
+    fn stress_error(&self, mesh: &Mesh2d, u: &[f64]) -> f64 {
+        let (mut err, mut norm) = (0.0, 0.0);
+        for i in 0..mesh.triangles().len() {
+            let p = mesh.triangle(i);
+            let w = tri3::signed_area(&p);
+            let c = [0, 1].map(|d| (p[0][d] + p[1][d] + p[2][d]) / 3.0);
+            let fe = crate::stress::triangle_stress(mesh, &self.material, i, u);
+            let ex = self.exact_stress(c);
+            err +=
+                w * ((fe.xx - ex[0]).powi(2) + (fe.yy - ex[1]).powi(2) + (fe.xy - ex[2]).powi(2));
+            norm += w * (ex[0].powi(2) + ex[1].powi(2) + ex[2].powi(2));
+        }
+        (err / norm).sqrt()
     }
 
     fn l2_error(&self, mesh: &Mesh2d, u: &[f64]) -> f64 {

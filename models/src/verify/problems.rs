@@ -32,13 +32,7 @@ pub fn plane(nx: usize, ny: usize) -> Result<PlaneProblem, ModelError> {
         .flat_map(|n| [2 * n, 2 * n + 1])
         .collect();
     let n_lines = lines.len();
-    let mesh = Mesh2d::new(
-        rect.nodes().to_vec(),
-        rect.triangles().to_vec(),
-        rect.triangle_regions().to_vec(),
-        lines,
-        vec![0; n_lines],
-    )?;
+    let mesh = rect.with_lines(lines, vec![0; n_lines])?;
     let props = PlaneProperties {
         continua: vec![Continuum {
             elastic: Elastic::new("cavity", 0.005, 0.45)?,
