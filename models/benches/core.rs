@@ -1,1 +1,188 @@
-fn main() {}
+//! FE-core benchmarks on the two sizes: a 2D mesh of 6,000 triangles + 170 line
+//! elements, and the cut block of 6 × 16 × 14 cubes × 5 tetrahedra.
+//!
+//! Run: `cargo bench -p models --bench core` (divan prints median and spread per case).
+
+use std::sync::LazyLock;
+
+use divan::Bencher;
+use models::assembly::{plane, solid, Dirichlet};
+use models::solve::{Cholesky, Damping, IntegratorKind, Layout, Statics, Structure};
+use models::verify::problems::{self, Assembled, BlockProblem, PlaneProblem};
+
+fn main() {
+    divan::main();
+}
+
+static PLANE: LazyLock<(PlaneProblem, Assembled)> = LazyLock::new(|| {
+    let p = problems::plane(60, 50).unwrap();
+    let a = p.assemble();
+    (p, a)
+});
+
+static BLOCK: LazyLock<(BlockProblem, Assembled)> = LazyLock::new(|| {
+    let p = problems::block([6, 16, 14], 10.0).unwrap();
+    let a = p.assemble();
+    (p, a)
+});
+
+fn plane_structure(layout: Layout) -> Structure {
+    let (p, a) = &*PLANE;
+    let bc = Dirichlet::new(&a.asm, &p.fixed).unwrap();
+    Structure::new(
+        bc,
+        &a.k,
+        &a.m,
+        &a.lumped,
+        Damping {
+            alpha: 1.0,
+            beta: 1e-4,
+        },
+        layout,
+    )
+    .unwrap()
+}
+
+mod plane2d {
+    use super::*;
+
+    #[divan::bench]
+    fn pattern(bencher: Bencher) {
+        let p = &PLANE.0;
+        bencher.bench(|| plane::assembler(&p.mesh));
+    }
+
+    #[divan::bench]
+    fn assemble_stiffness(bencher: Bencher) {
+        let (p, a) = &*PLANE;
+        let mut k = a.asm.zeros();
+        bencher.bench_local(|| plane::stiffness(&p.mesh, &a.asm, &p.props, &mut k));
+    }
+
+    #[divan::bench]
+    fn assemble_mass(bencher: Bencher) {
+        let (p, a) = &*PLANE;
+        let mut m = a.asm.zeros();
+        bencher.bench_local(|| plane::mass(&p.mesh, &a.asm, &p.props, &mut m));
+    }
+
+    #[divan::bench(args = [Layout::Simplicial, Layout::Supernodal])]
+    fn symbolic_factorization(bencher: Bencher, layout: Layout) {
+        let s = plane_structure(layout);
+        bencher.bench(|| s.analyze().unwrap());
+    }
+
+    #[divan::bench(args = [Layout::Simplicial, Layout::Supernodal])]
+    fn houbolt_prepare(bencher: Bencher, layout: Layout) {
+        let s = plane_structure(layout);
+        let mut h = IntegratorKind::Houbolt.create();
+        h.prepare(&s, 1e-3).unwrap();
+        // Same dt: one numeric refactorization of the effective matrix (as after a
+        // stiffness change).
+        bencher.bench_local(|| h.prepare(&s, 1e-3).unwrap());
+    }
+
+    #[divan::bench(args = [Layout::Simplicial, Layout::Supernodal])]
+    fn houbolt_step(bencher: Bencher, layout: Layout) {
+        let s = plane_structure(layout);
+        let mut h = IntegratorKind::Houbolt.create();
+        h.prepare(&s, 1e-3).unwrap();
+        let mut load = |t: f64, f: &mut [f64]| f.fill(1e-3 * (10.0 * t).sin());
+        h.start(&s, 0.0, &vec![0.0; s.n()], &vec![0.0; s.n()], &mut load)
+            .unwrap();
+        for _ in 0..3 {
+            h.step(&s, &mut load).unwrap();
+        }
+        bencher.bench_local(|| h.step(&s, &mut load).unwrap());
+    }
+
+    #[divan::bench]
+    fn static_solve(bencher: Bencher) {
+        let (p, a) = &*PLANE;
+        let mut statics = Statics::new(&a.asm, &p.fixed, Layout::Simplicial).unwrap();
+        statics.factorize(&a.k).unwrap();
+        let f = vec![1e-3; p.mesh.n_dofs()];
+        let mut u = vec![0.0; p.mesh.n_dofs()];
+        bencher.bench_local(|| statics.solve(a.asm.matrix(&a.k), &f, &mut u));
+    }
+}
+
+mod block3d {
+    use super::*;
+
+    #[divan::bench]
+    fn assemble_stiffness(bencher: Bencher) {
+        let (p, a) = &*BLOCK;
+        let mut k = a.asm.zeros();
+        bencher.bench_local(|| solid::stiffness(&p.mesh, &a.asm, &p.material, &mut k));
+    }
+
+    #[divan::bench(args = [Layout::Simplicial, Layout::Supernodal])]
+    fn symbolic_factorization(bencher: Bencher, layout: Layout) {
+        let (p, a) = &*BLOCK;
+        let bc = Dirichlet::new(&a.asm, &p.fixed).unwrap();
+        bencher.bench(|| Cholesky::analyze(bc.symbolic().as_ref(), layout).unwrap());
+    }
+
+    #[divan::bench(args = [Layout::Simplicial, Layout::Supernodal])]
+    fn numeric_factorization(bencher: Bencher, layout: Layout) {
+        let (p, a) = &*BLOCK;
+        let mut statics = Statics::new(&a.asm, &p.fixed, layout).unwrap();
+        bencher.bench_local(|| statics.factorize(&a.k).unwrap());
+    }
+
+    #[divan::bench]
+    fn solve(bencher: Bencher) {
+        let (p, a) = &*BLOCK;
+        let mut statics = Statics::new(&a.asm, &p.fixed, Layout::Supernodal).unwrap();
+        statics.factorize(&a.k).unwrap();
+        let f = vec![0.0; p.mesh.n_dofs()];
+        let mut u = p.prescribed.clone();
+        bencher.bench_local(|| statics.solve(a.asm.matrix(&a.k), &f, &mut u));
+    }
+
+    /// Everything a static solve needs from scratch: stiffness assembly on the existing
+    /// pattern, numeric factorization, solve.
+    #[divan::bench]
+    fn static_total(bencher: Bencher) {
+        let (p, a) = &*BLOCK;
+        let mut statics = Statics::new(&a.asm, &p.fixed, Layout::Supernodal).unwrap();
+        let mut k = a.asm.zeros();
+        let f = vec![0.0; p.mesh.n_dofs()];
+        let mut u = p.prescribed.clone();
+        bencher.bench_local(|| {
+            solid::stiffness(&p.mesh, &a.asm, &p.material, &mut k);
+            statics.factorize(&k).unwrap();
+            statics.solve(a.asm.matrix(&k), &f, &mut u);
+        });
+    }
+}
+
+mod parts {
+    use super::*;
+
+    #[divan::bench]
+    fn plane_matvec(bencher: Bencher) {
+        let s = plane_structure(Layout::Simplicial);
+        let x = vec![1.0; s.n()];
+        let mut y = vec![0.0; s.n()];
+        bencher.bench_local(|| models::assembly::mul_add(s.mass(), &x, 1.0, &mut y));
+    }
+
+    #[divan::bench]
+    fn plane_triangular_solve(bencher: Bencher) {
+        let s = plane_structure(Layout::Simplicial);
+        let mut chol = s.analyze().unwrap();
+        let mut a = vec![0.0; s.dirichlet().nnz()];
+        s.effective(2e6, 0.0, &mut a);
+        chol.factorize(s.dirichlet().matrix(&a)).unwrap();
+        eprintln!(
+            "n = {}, nnz(A) = {}, nnz(L) = {}",
+            s.n(),
+            a.len(),
+            chol.factor_nnz()
+        );
+        let mut x = vec![1.0; s.n()];
+        bencher.bench_local(|| chol.solve_in_place(&mut x));
+    }
+}

@@ -161,7 +161,7 @@ pub fn block(size: [f64; 3], cells: [usize; 3]) -> Result<Mesh3d, ModelError> {
 /// caller can place a node plane exactly where it needs one (a cut plane, a cut depth).
 pub fn block_on_planes(planes: &[Vec<f64>; 3]) -> Result<Mesh3d, ModelError> {
     for (d, p) in planes.iter().enumerate() {
-        if p.len() < 2 || p.windows(2).any(|w| !(w[1] > w[0])) {
+        if p.len() < 2 || !p.windows(2).all(|w| w[1] > w[0]) {
             return Err(ModelError::InvalidParameter {
                 name: format!("planes[{d}]"),
                 value: p.len() as f64,

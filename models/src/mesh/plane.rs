@@ -48,7 +48,7 @@ impl Mesh2d {
         let extent = self.extent();
         for index in 0..self.triangles.len() {
             let area = tri3::signed_area(&self.triangle(index));
-            if !(area > DEGENERATE_TOL * extent * extent) {
+            if area.is_nan() || area <= DEGENERATE_TOL * extent * extent {
                 return Err(ModelError::DegenerateElement {
                     kind: "triangle",
                     index,
@@ -60,7 +60,7 @@ impl Mesh2d {
         for index in 0..self.lines.len() {
             let [a, b] = self.line(index);
             let len = (b[0] - a[0]).hypot(b[1] - a[1]);
-            if !(len > DEGENERATE_TOL * extent) {
+            if len.is_nan() || len <= DEGENERATE_TOL * extent {
                 return Err(ModelError::DegenerateElement {
                     kind: "line",
                     index,

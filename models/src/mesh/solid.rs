@@ -49,7 +49,7 @@ impl Mesh3d {
         let tol = DEGENERATE_TOL * self.extent().powi(3);
         for index in 0..self.tets.len() {
             let vol = tet4::signed_volume(&self.tet(index));
-            if !(vol > tol) {
+            if vol.is_nan() || vol <= tol {
                 return Err(ModelError::DegenerateElement {
                     kind: "tetrahedron",
                     index,

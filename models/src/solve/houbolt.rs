@@ -73,11 +73,13 @@ impl Integrator for Houbolt {
     }
 
     fn prepare(&mut self, s: &Structure, dt: f64) -> Result<(), ModelError> {
-        if check_dt(dt)? != self.dt {
+        let started = !self.state.u.is_empty();
+        if check_dt(dt)? != self.dt && started {
             self.start_steps = 2;
         }
         self.dt = dt;
         if self.start_steps > 0 {
+            // A restart is pending: the starter needs the new dt or matrices too.
             self.starter.prepare(s, dt)?;
         }
         for x in [&mut self.rhs, &mut self.mass_part, &mut self.damping_part] {
@@ -99,6 +101,8 @@ impl Integrator for Houbolt {
         consistent_acceleration(s, &mut self.state, load)?;
         self.back = [vec![0.0; s.n()], vec![0.0; s.n()]];
         self.starter.prepare(s, self.dt)?;
+        // Sizes the starter's state now, so that restarts in `step` do not allocate.
+        self.starter.restart_from(&self.state);
         self.start_steps = 2;
         Ok(())
     }

@@ -74,13 +74,13 @@ impl Integrator for Rk4 {
         self.du[0].copy_from_slice(&self.state.v);
         self.dv[0].copy_from_slice(&self.state.a);
         const C: [f64; 4] = [0.0, 0.5, 0.5, 1.0];
-        for k in 1..4 {
+        for (k, &c) in C.iter().enumerate().skip(1) {
             let State { u, v, .. } = &self.state;
             for i in 0..u.len() {
-                self.u_stage[i] = u[i] + C[k] * dt * self.du[k - 1][i];
-                self.v_stage[i] = v[i] + C[k] * dt * self.dv[k - 1][i];
+                self.u_stage[i] = u[i] + c * dt * self.du[k - 1][i];
+                self.v_stage[i] = v[i] + c * dt * self.dv[k - 1][i];
             }
-            load(t0 + C[k] * dt, &mut self.f);
+            load(t0 + c * dt, &mut self.f);
             self.du[k].copy_from_slice(&self.v_stage);
             lumped_acceleration(s, &self.f, &self.u_stage, &self.v_stage, &mut self.dv[k]);
         }

@@ -2,7 +2,8 @@
 //! with 170 line elements (the size of seed 003's abdomen model) and the cut block's
 //! 6 × 16 × 14 cubes × 5 tetrahedra (seed 002 §3.1), both with soft-tissue properties.
 
-use crate::assembly::plane::{Continuum, PlaneProperties, Truss};
+use crate::assembly::plane::{self, Continuum, PlaneProperties, Truss};
+use crate::assembly::{solid, Assembler};
 use crate::element::Elastic;
 use crate::error::ModelError;
 use crate::mesh::{generate, Mesh2d, Mesh3d};
@@ -13,6 +14,27 @@ pub struct PlaneProblem {
     pub mesh: Mesh2d,
     pub props: PlaneProperties,
     pub fixed: Vec<usize>,
+}
+
+/// Assembled global matrices on the full pattern.
+#[derive(Debug, Clone)]
+pub struct Assembled {
+    pub asm: Assembler,
+    pub k: Vec<f64>,
+    pub m: Vec<f64>,
+    pub lumped: Vec<f64>,
+}
+
+impl PlaneProblem {
+    /// Pattern, stiffness, consistent and lumped mass.
+    pub fn assemble(&self) -> Assembled {
+        let asm = plane::assembler(&self.mesh);
+        let (mut k, mut m) = (asm.zeros(), asm.zeros());
+        plane::stiffness(&self.mesh, &asm, &self.props, &mut k);
+        plane::mass(&self.mesh, &asm, &self.props, &mut m);
+        let lumped = plane::lumped_mass(&self.mesh, &self.props);
+        Assembled { asm, k, m, lumped }
+    }
 }
 
 /// A 300 × 250 mm rectangle of `nx` × `ny` cells (2 triangles each; 60 × 50 gives 6,000),
@@ -51,6 +73,18 @@ pub struct BlockProblem {
     pub fixed: Vec<usize>,
     /// Full-length vector holding the prescribed displacement at constrained dofs.
     pub prescribed: Vec<f64>,
+}
+
+impl BlockProblem {
+    /// Pattern, stiffness, consistent and lumped mass.
+    pub fn assemble(&self) -> Assembled {
+        let asm = solid::assembler(&self.mesh);
+        let (mut k, mut m) = (asm.zeros(), asm.zeros());
+        solid::stiffness(&self.mesh, &asm, &self.material, &mut k);
+        solid::mass(&self.mesh, &asm, &self.material, &mut m);
+        let lumped = solid::lumped_mass(&self.mesh, &self.material);
+        Assembled { asm, k, m, lumped }
+    }
 }
 
 /// Seed 002's block: 100 × 80 × 17 mm, `cells` cubes (default 6 × 16 × 14), face y = 0

@@ -1,0 +1,103 @@
+//! A step of every integrator, and a static re-solve, allocate nothing. Verified with a
+//! counting global allocator (per thread, so parallel tests do not interfere).
+
+use std::alloc::{GlobalAlloc, Layout as AllocLayout, System};
+use std::cell::Cell;
+
+use models::assembly::Dirichlet;
+use models::solve::{Damping, IntegratorKind, Layout, Statics, Structure};
+use models::verify::problems;
+
+struct Counting;
+
+thread_local! {
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: AllocLayout) -> *mut u8 {
+        ALLOCATIONS.with(|c| c.set(c.get() + 1));
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: AllocLayout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: AllocLayout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.with(|c| c.set(c.get() + 1));
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocations_during(f: impl FnOnce()) -> usize {
+    let before = ALLOCATIONS.with(Cell::get);
+    f();
+    ALLOCATIONS.with(Cell::get) - before
+}
+
+fn structure() -> Structure {
+    let p = problems::plane(12, 10).unwrap();
+    let a = p.assemble();
+    let bc = Dirichlet::new(&a.asm, &p.fixed).unwrap();
+    let damping = Damping {
+        alpha: 0.5,
+        beta: 1e-4,
+    };
+    Structure::new(bc, &a.k, &a.m, &a.lumped, damping, Layout::Simplicial).unwrap()
+}
+
+#[test]
+fn integrator_steps_allocate_nothing() {
+    let s = structure();
+    for kind in IntegratorKind::ALL {
+        let mut integ = kind.create();
+        integ.prepare(&s, 1e-5).unwrap();
+        let mut load =
+            |t: f64, f: &mut [f64]| f.iter_mut().for_each(|x| *x = 1e-4 * (50.0 * t).sin());
+        integ
+            .start(&s, 0.0, &vec![0.0; s.n()], &vec![0.0; s.n()], &mut load)
+            .unwrap();
+        let n = allocations_during(|| {
+            for _ in 0..50 {
+                integ.step(&s, &mut load).unwrap();
+            }
+        });
+        assert_eq!(n, 0, "{kind:?} allocated {n} times in 50 steps");
+        // A new step size re-prepares (that may allocate), then steps are again free.
+        integ.prepare(&s, 2e-5).unwrap();
+        let n = allocations_during(|| {
+            for _ in 0..50 {
+                integ.step(&s, &mut load).unwrap();
+            }
+        });
+        assert_eq!(n, 0, "{kind:?} allocated {n} times after a change of dt");
+        if integ.critical_time_step().is_none() {
+            // Implicit: re-preparing for new matrices is a numeric refactorization on the
+            // existing symbolic analysis, which allocates nothing either.
+            let n = allocations_during(|| integ.prepare(&s, 2e-5).unwrap());
+            assert_eq!(n, 0, "{kind:?} re-prepare allocated {n} times");
+        }
+    }
+}
+
+#[test]
+fn static_resolve_allocates_nothing() {
+    let p = problems::block([3, 4, 3], 1.0).unwrap();
+    let models::verify::problems::Assembled { asm, k, .. } = p.assemble();
+    let mut statics = Statics::new(&asm, &p.fixed, Layout::Supernodal).unwrap();
+    statics.factorize(&k).unwrap();
+    let f = vec![0.0; p.mesh.n_dofs()];
+    let mut u = p.prescribed.clone();
+    statics.solve(asm.matrix(&k), &f, &mut u);
+    let n = allocations_during(|| {
+        for _ in 0..20 {
+            statics.solve(asm.matrix(&k), &f, &mut u);
+        }
+    });
+    assert_eq!(n, 0);
+    // A numeric refactorization reuses the symbolic analysis and its workspace too.
+    let n = allocations_during(|| statics.factorize(&k).unwrap());
+    assert_eq!(n, 0, "refactorization allocated {n} times");
+}
