@@ -5,6 +5,7 @@ pub mod assembly;
 pub mod element;
 pub mod error;
 pub mod mesh;
+pub mod scene;
 pub mod solve;
 pub mod stress;
 pub mod verify;

@@ -2,6 +2,7 @@
 //! ([`Mesh2d`]) and a 3D mesh of 4-node tetrahedra with its boundary faces ([`Mesh3d`]).
 //! Both validate on construction; both carry named node sets (supports, loads, landmarks).
 
+pub mod cut;
 pub mod generate;
 mod node_sets;
 mod plane;

@@ -1,0 +1,354 @@
+//! The variable table of a scene and the store of its parameter and input values, with the
+//! checks every `set` goes through (kind, length, range, and whether it may change now).
+
+use super::SceneError;
+
+/// FMI causality.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Causality {
+    Parameter,
+    Input,
+    Output,
+}
+
+/// FMI variability.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Variability {
+    /// Set before initialization only.
+    Fixed,
+    /// Changeable between steps.
+    Tunable,
+    /// Changes continuously in time (inputs and outputs).
+    Continuous,
+}
+
+/// Value type.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VariableKind {
+    Real,
+    String,
+}
+
+/// Start value of a parameter or input.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Start {
+    Real(f64),
+    String(String),
+    /// Outputs have no start value (FMI: initial = calculated).
+    None,
+}
+
+/// One row of the variable table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Variable {
+    pub name: String,
+    /// Value reference: the index of this row.
+    pub vr: u32,
+    pub causality: Causality,
+    pub variability: Variability,
+    pub kind: VariableKind,
+    /// Number of elements (1 for scalars; FMI 3 exposes larger ones as arrays).
+    pub len: usize,
+    pub unit: &'static str,
+    pub start: Start,
+    pub min: f64,
+    pub max: f64,
+    pub description: String,
+}
+
+impl Variable {
+    /// A real scalar parameter.
+    pub fn parameter(
+        name: &str,
+        variability: Variability,
+        unit: &'static str,
+        start: f64,
+        range: (f64, f64),
+        description: &str,
+    ) -> Self {
+        Self::real(
+            name,
+            Causality::Parameter,
+            variability,
+            unit,
+            Start::Real(start),
+            range,
+            description,
+        )
+    }
+
+    /// A real scalar input.
+    pub fn input(
+        name: &str,
+        unit: &'static str,
+        start: f64,
+        range: (f64, f64),
+        description: &str,
+    ) -> Self {
+        Self::real(
+            name,
+            Causality::Input,
+            Variability::Continuous,
+            unit,
+            Start::Real(start),
+            range,
+            description,
+        )
+    }
+
+    /// A real output of `len` elements.
+    pub fn output(name: &str, unit: &'static str, len: usize, description: &str) -> Self {
+        let mut v = Self::real(
+            name,
+            Causality::Output,
+            Variability::Continuous,
+            unit,
+            Start::None,
+            (f64::NEG_INFINITY, f64::INFINITY),
+            description,
+        );
+        v.len = len;
+        v
+    }
+
+    /// A fixed string parameter.
+    pub fn string(name: &str, start: &str, description: &str) -> Self {
+        Self {
+            kind: VariableKind::String,
+            start: Start::String(start.to_string()),
+            ..Self::real(
+                name,
+                Causality::Parameter,
+                Variability::Fixed,
+                "",
+                Start::None,
+                (0.0, 0.0),
+                description,
+            )
+        }
+    }
+
+    fn real(
+        name: &str,
+        causality: Causality,
+        variability: Variability,
+        unit: &'static str,
+        start: Start,
+        (min, max): (f64, f64),
+        description: &str,
+    ) -> Self {
+        Self {
+            name: name.to_string(),
+            vr: 0,
+            causality,
+            variability,
+            kind: VariableKind::Real,
+            len: 1,
+            unit,
+            start,
+            min,
+            max,
+            description: description.to_string(),
+        }
+    }
+}
+
+/// The current values of a scene's parameters and inputs, indexed by value reference.
+#[derive(Debug, Clone)]
+pub struct Values {
+    table: Vec<Variable>,
+    reals: Vec<f64>,
+    strings: Vec<String>,
+    initialized: bool,
+}
+
+impl Values {
+    /// Numbers the table (vr = row index) and takes the start values.
+    pub fn new(mut table: Vec<Variable>) -> Self {
+        for (i, v) in table.iter_mut().enumerate() {
+            v.vr = i as u32;
+        }
+        let reals = table
+            .iter()
+            .map(|v| {
+                if let Start::Real(x) = v.start {
+                    x
+                } else {
+                    f64::NAN
+                }
+            })
+            .collect();
+        let strings = table
+            .iter()
+            .map(|v| {
+                if let Start::String(s) = &v.start {
+                    s.clone()
+                } else {
+                    String::new()
+                }
+            })
+            .collect();
+        Self {
+            table,
+            reals,
+            strings,
+            initialized: false,
+        }
+    }
+
+    pub fn table(&self) -> &[Variable] {
+        &self.table
+    }
+
+    /// The row of `vr`.
+    pub fn variable(&self, vr: u32) -> Result<&Variable, SceneError> {
+        self.table
+            .get(vr as usize)
+            .ok_or(SceneError::UnknownVariable(vr))
+    }
+
+    /// Marks the scene initialized: fixed parameters are frozen from now on.
+    pub fn freeze(&mut self) {
+        self.initialized = true;
+    }
+
+    /// Back to the start values (FMI reset).
+    pub fn reset(&mut self) {
+        *self = Self::new(std::mem::take(&mut self.table));
+    }
+
+    fn settable(&self, v: &Variable, kind: VariableKind) -> Result<(), SceneError> {
+        if v.kind != kind {
+            return Err(SceneError::WrongKind {
+                name: v.name.clone(),
+                expected: kind_name(kind),
+                actual: kind_name(v.kind),
+            });
+        }
+        if v.causality == Causality::Output {
+            return Err(SceneError::NotSettable {
+                name: v.name.clone(),
+                reason: "it is an output",
+            });
+        }
+        if self.initialized && v.variability == Variability::Fixed {
+            return Err(SceneError::NotSettable {
+                name: v.name.clone(),
+                reason: "fixed parameters can only be set before initialization",
+            });
+        }
+        Ok(())
+    }
+
+    /// Sets a real scalar parameter or input after checking kind, state and range.
+    pub fn set_real(&mut self, vr: u32, values: &[f64]) -> Result<(), SceneError> {
+        let v = self.variable(vr)?;
+        self.settable(v, VariableKind::Real)?;
+        if values.len() != 1 {
+            return Err(SceneError::WrongLength {
+                name: v.name.clone(),
+                expected: 1,
+                got: values.len(),
+            });
+        }
+        let x = values[0];
+        if !(x.is_finite() && x >= v.min && x <= v.max) {
+            return Err(SceneError::OutOfRange {
+                name: v.name.clone(),
+                value: x,
+                min: v.min,
+                max: v.max,
+            });
+        }
+        self.reals[vr as usize] = x;
+        Ok(())
+    }
+
+    /// Sets a string parameter.
+    pub fn set_string(&mut self, vr: u32, value: &str) -> Result<(), SceneError> {
+        let v = self.variable(vr)?;
+        self.settable(v, VariableKind::String)?;
+        self.strings[vr as usize] = value.to_string();
+        Ok(())
+    }
+
+    /// Current value of a real parameter or input.
+    pub fn real(&self, vr: u32) -> f64 {
+        self.reals[vr as usize]
+    }
+
+    /// Current value of a string parameter.
+    pub fn string(&self, vr: u32) -> Result<&str, SceneError> {
+        let v = self.variable(vr)?;
+        if v.kind != VariableKind::String {
+            return Err(SceneError::WrongKind {
+                name: v.name.clone(),
+                expected: "string",
+                actual: kind_name(v.kind),
+            });
+        }
+        Ok(&self.strings[vr as usize])
+    }
+}
+
+fn kind_name(kind: VariableKind) -> &'static str {
+    match kind {
+        VariableKind::Real => "real",
+        VariableKind::String => "string",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn values() -> Values {
+        Values::new(vec![
+            Variable::parameter(
+                "E",
+                Variability::Tunable,
+                "MPa",
+                1.0,
+                (1e-9, 1e9),
+                "modulus",
+            ),
+            Variable::parameter("n", Variability::Fixed, "1", 4.0, (1.0, 100.0), "divisions"),
+            Variable::output("f", "N", 1, "force"),
+            Variable::string("mode", "a", "mode"),
+        ])
+    }
+
+    #[test]
+    fn set_checks_range_kind_state_and_causality() {
+        let mut v = values();
+        v.set_real(0, &[2.0]).unwrap();
+        assert_eq!(v.real(0), 2.0);
+        let err = v.set_real(0, &[-1.0]).unwrap_err();
+        assert!(err.to_string().contains("`E`"), "{err}");
+        assert!(matches!(
+            v.set_real(0, &[f64::NAN]),
+            Err(SceneError::OutOfRange { .. })
+        ));
+        assert!(matches!(
+            v.set_real(2, &[1.0]),
+            Err(SceneError::NotSettable { .. })
+        ));
+        assert!(matches!(
+            v.set_real(3, &[1.0]),
+            Err(SceneError::WrongKind { .. })
+        ));
+        assert!(matches!(
+            v.set_real(9, &[1.0]),
+            Err(SceneError::UnknownVariable(9))
+        ));
+        v.freeze();
+        assert!(matches!(
+            v.set_real(1, &[5.0]),
+            Err(SceneError::NotSettable { .. })
+        ));
+        v.set_real(0, &[3.0]).unwrap();
+        v.reset();
+        assert_eq!(v.real(0), 1.0);
+        v.set_real(1, &[5.0]).unwrap();
+    }
+}

@@ -1,0 +1,284 @@
+//! The cut-block scene against exact solutions, against itself (refinement, monotonicity,
+//! symmetry) and against the numbers seed 002 reports.
+
+use models::scene::cutblock::{CutBlock, PROFILE_STATIONS};
+use models::scene::{Scene, SceneError};
+
+fn scene(settings: &[(&str, f64)], strings: &[(&str, &str)]) -> CutBlock {
+    let mut s = CutBlock::new();
+    for (name, v) in settings {
+        s.set(name, *v).unwrap();
+    }
+    for (name, v) in strings {
+        let vr = s.lookup(name).unwrap();
+        s.set_string(vr, v).unwrap();
+    }
+    s.initialize().unwrap();
+    s
+}
+
+fn step(s: &mut CutBlock, inputs: &[(&str, f64)]) {
+    for (name, v) in inputs {
+        s.set(name, *v).unwrap();
+    }
+    s.do_step(0.0, 1.0).unwrap();
+}
+
+fn get(s: &mut CutBlock, name: &str) -> f64 {
+    s.get(name).unwrap()
+}
+
+fn reaction(settings: &[(&str, f64)], inputs: &[(&str, f64)]) -> f64 {
+    let mut s = scene(settings, &[]);
+    step(&mut s, inputs);
+    get(&mut s, "reaction_force")
+}
+
+#[test]
+fn sliding_supports_give_exact_uniaxial_tension() {
+    let (e, nu, pull) = (0.05, 0.43, 2.0);
+    let mut s = scene(
+        &[("E", e), ("nu", nu), ("cut_depth", 0.0)],
+        &[("support", "sliding")],
+    );
+    step(&mut s, &[("pull", pull)]);
+    let (lx, ly, lz) = (100.0, 80.0, 17.0);
+    let strain = pull / ly;
+    let force = get(&mut s, "reaction_force");
+    let exact = e * lx * lz * strain;
+    assert!(
+        ((force - exact) / exact).abs() < 1e-10,
+        "{force} vs {exact}"
+    );
+    let (mesh, u) = s.field().unwrap();
+    for (n, p) in mesh.nodes().iter().enumerate() {
+        let expect = [-nu * strain * p[0], strain * p[1], -nu * strain * p[2]];
+        for d in 0..3 {
+            assert!(
+                (u[3 * n + d] - expect[d]).abs() < 1e-10 * pull,
+                "node {n} dof {d}"
+            );
+        }
+    }
+}
+
+#[test]
+fn clamped_reaction_force_converges_under_refinement() {
+    // Uncut and cut block at 0.5×, 1×, 2× the seed's cells.
+    for depth in [0.0, 8.5] {
+        let f: Vec<f64> = [0.5, 1.0, 2.0]
+            .iter()
+            .map(|m| {
+                let cells = [
+                    ("cells_x", 6.0 * m),
+                    ("cells_y", 16.0 * m),
+                    ("cells_z", 14.0 * m),
+                    ("cut_depth", depth),
+                ];
+                reaction(&cells, &[("pull", 10.0), ("scalpel_x", 100.0)])
+            })
+            .collect();
+        let (d1, d2) = ((f[1] - f[0]).abs(), (f[2] - f[1]).abs());
+        println!(
+            "depth {depth}: reaction at 0.5x, 1x, 2x cells: {f:.4?}; changes {d1:.4} then {d2:.4}"
+        );
+        assert!(d2 < 0.7 * d1, "not converging: {f:?}");
+    }
+}
+
+#[test]
+fn zero_depth_equals_uncut_and_cuts_weaken_monotonically() {
+    let uncut = reaction(
+        &[("cut_depth", 0.0)],
+        &[("pull", 10.0), ("scalpel_x", 100.0)],
+    );
+    let before_scalpel = reaction(&[], &[("pull", 10.0), ("scalpel_x", 0.0)]);
+    assert_eq!(uncut, before_scalpel);
+    let mut previous = uncut;
+    for depth in [2.0, 5.0, 8.5, 12.0] {
+        let f = reaction(
+            &[("cut_depth", depth)],
+            &[("pull", 10.0), ("scalpel_x", 100.0)],
+        );
+        assert!(f < previous, "depth {depth}: {f} not below {previous}");
+        previous = f;
+    }
+    let mut s = scene(&[], &[]);
+    let mut previous = f64::INFINITY;
+    for x in [0.0, 20.0, 40.0, 60.0, 80.0, 100.0] {
+        step(&mut s, &[("pull", 10.0), ("scalpel_x", x)]);
+        let f = get(&mut s, "reaction_force");
+        let grew = get(&mut s, "cut_length") > 0.0;
+        assert!(
+            f < previous || !grew,
+            "scalpel {x}: {f} not below {previous}"
+        );
+        previous = f;
+    }
+}
+
+#[test]
+fn full_length_cut_is_mirror_symmetric_in_x() {
+    let mut s = scene(&[], &[]);
+    step(&mut s, &[("pull", 10.0), ("scalpel_x", 100.0)]);
+    let (mesh, u) = s.field().unwrap();
+    let key = |p: &[f64; 3]| [p[0], p[1], p[2]].map(|c| (c * 1e6).round() as i64);
+    let mut at: std::collections::HashMap<[i64; 3], Vec<usize>> = Default::default();
+    for (n, p) in mesh.nodes().iter().enumerate() {
+        at.entry(key(p)).or_default().push(n);
+    }
+    let scale = u.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let mut checked = 0;
+    for (n, p) in mesh.nodes().iter().enumerate() {
+        let mirror = at[&key(&[100.0 - p[0], p[1], p[2]])].clone();
+        // Duplicated flank nodes share a position: pair the one on the same side.
+        let m = *mirror
+            .iter()
+            .min_by(|&&a, &&b| {
+                let d = |k: usize| (u[3 * k + 1] - u[3 * n + 1]).abs();
+                d(a).total_cmp(&d(b))
+            })
+            .unwrap();
+        assert!(
+            (u[3 * n] + u[3 * m]).abs() < 1e-9 * scale,
+            "u_x at node {n}"
+        );
+        assert!((u[3 * n + 1] - u[3 * m + 1]).abs() < 1e-9 * scale);
+        assert!((u[3 * n + 2] - u[3 * m + 2]).abs() < 1e-9 * scale);
+        checked += 1;
+    }
+    assert_eq!(checked, mesh.nodes().len());
+}
+
+#[test]
+fn loads_only_reuse_the_factorization_material_refactorizes_cut_rebuilds() {
+    let mut s = scene(&[], &[]);
+    let w0 = s.work();
+    assert_eq!(
+        (w0.topology_builds, w0.factorizations, w0.solves),
+        (1, 1, 1)
+    );
+    for pull in [1.0, 2.0, 3.0] {
+        step(&mut s, &[("pull", pull), ("press_force", pull * 0.1)]);
+    }
+    assert_eq!(
+        s.work(),
+        models::scene::cutblock::Work {
+            topology_builds: 1,
+            factorizations: 1,
+            solves: 4
+        }
+    );
+    step(&mut s, &[("E", 0.05)]);
+    assert_eq!(s.work().factorizations, 2);
+    step(&mut s, &[("scalpel_x", 40.0)]);
+    assert_eq!(s.work().topology_builds, 2);
+    assert_eq!(s.work().factorizations, 3);
+}
+
+#[test]
+fn separating_cut_is_refused_with_a_clear_error() {
+    let mut s = scene(&[("cut_depth", 17.0)], &[]);
+    s.set("pull", 10.0).unwrap();
+    s.set("scalpel_x", 100.0).unwrap();
+    let err = s.do_step(0.0, 1.0).unwrap_err();
+    assert!(matches!(err, SceneError::Config(_)), "{err}");
+    assert!(
+        err.to_string()
+            .contains("separates the block into 2 bodies"),
+        "{err}"
+    );
+    // The scene keeps its last good state, and a partial through-cut is fine.
+    assert_eq!(get(&mut s, "cut_length"), 0.0);
+    s.set("scalpel_x", 50.0).unwrap();
+    s.do_step(0.0, 1.0).unwrap();
+    assert!(get(&mut s, "reaction_force") > 0.0);
+}
+
+#[test]
+fn hard_cases_edge_cut_zero_pull_and_press_on_the_flank() {
+    // Cut one cell from the clamped face and one cell from the pulled face.
+    for y in [5.0, 75.0] {
+        let f = reaction(&[("y_cut", y)], &[("pull", 10.0), ("scalpel_x", 100.0)]);
+        assert!(f.is_finite() && f > 0.0);
+    }
+    // Zero pull, no press: nothing moves.
+    let mut s = scene(&[], &[]);
+    step(&mut s, &[("scalpel_x", 100.0)]);
+    assert_eq!(get(&mut s, "reaction_force"), 0.0);
+    assert_eq!(
+        s.field()
+            .unwrap()
+            .1
+            .iter()
+            .fold(0.0f64, |a, b| a.max(b.abs())),
+        0.0
+    );
+    // Press on the flank at the tip of a half-length cut: the surface goes down, the force
+    // balances through the supports.
+    step(&mut s, &[("scalpel_x", 50.0), ("press_force", 0.5)]);
+    let mut p = vec![0.0; PROFILE_STATIONS];
+    s.get_real(s.lookup("profile_x50").unwrap(), &mut p)
+        .unwrap();
+    let lowest = p
+        .iter()
+        .copied()
+        .filter(|z| z.is_finite())
+        .fold(f64::INFINITY, f64::min);
+    assert!(lowest < 17.0, "{lowest}");
+}
+
+#[test]
+fn near_incompressible_force_grows_with_nu_and_stays_finite() {
+    let mut previous = 0.0;
+    for nu in [0.3, 0.43, 0.49, 0.499, 0.4999] {
+        let f = reaction(&[("nu", nu)], &[("pull", 10.0), ("scalpel_x", 100.0)]);
+        println!("nu = {nu}: reaction {f:.4} N");
+        assert!(f.is_finite() && f > previous);
+        previous = f;
+    }
+}
+
+#[test]
+fn bad_values_are_refused_by_name() {
+    let mut s = CutBlock::new();
+    for (name, v) in [("E", 0.0), ("E", f64::NAN), ("nu", 0.5), ("cells_x", 0.0)] {
+        let err = s.set(name, v).unwrap_err().to_string();
+        assert!(err.contains(name), "{err}");
+    }
+    s.set("cells_x", 2.5).unwrap();
+    let err = s.initialize().unwrap_err().to_string();
+    assert!(
+        err.contains("cells_x") && err.contains("whole number"),
+        "{err}"
+    );
+    let mut s = CutBlock::new();
+    let vr = s.lookup("cut_strategy").unwrap();
+    assert!(s
+        .set_string(vr, "laser")
+        .unwrap_err()
+        .to_string()
+        .contains("laser"));
+    s.set("y_cut", 80.0).unwrap();
+    assert!(s.initialize().unwrap_err().to_string().contains("y_cut"));
+}
+
+#[test]
+fn deletion_strategy_is_softer_than_duplication_and_opens_by_a_layer() {
+    let mut dup = scene(&[], &[]);
+    let mut del = scene(&[], &[("cut_strategy", "delete")]);
+    for s in [&mut dup, &mut del] {
+        step(s, &[("pull", 10.0), ("scalpel_x", 100.0)]);
+    }
+    let (fd, fe) = (
+        get(&mut dup, "reaction_force"),
+        get(&mut del, "reaction_force"),
+    );
+    let (od, oe) = (get(&mut dup, "cut_opening"), get(&mut del, "cut_opening"));
+    println!(
+        "duplicate: F = {fd:.4} N, opening {od:.3} mm; delete: F = {fe:.4} N, opening {oe:.3} mm"
+    );
+    assert!(fe < fd);
+    // The deleted layer is 5 mm thick at the seed's mesh.
+    assert!(oe > od && oe > 5.0);
+}
