@@ -166,7 +166,7 @@ mod tests {
     #[test]
     fn reduced_system_of_a_spring_chain() {
         // 0 -k1- 1 -k2- 2, dof 0 prescribed to 0.5, dof 2 prescribed to 0: u1 = k1·0.5/(k1+k2).
-        let asm = Assembler::new(3, &[[0, 1], [1, 2]]);
+        let asm = Assembler::new(3, 1, &[[0, 1], [1, 2]]);
         let mut k = asm.zeros();
         asm.add(&mut k, 0, &(Matrix2::new(1.0, -1.0, -1.0, 1.0) * 2.0));
         asm.add(&mut k, 1, &(Matrix2::new(1.0, -1.0, -1.0, 1.0) * 3.0));

@@ -26,32 +26,57 @@ pub struct Assembler {
 }
 
 impl Assembler {
-    /// Builds the pattern for `n_dofs` dofs from each element's global dof list.
-    pub fn new<E: AsRef<[usize]>>(n_dofs: usize, elements: &[E]) -> Self {
-        let mut rows: Vec<Vec<usize>> = vec![Vec::new(); n_dofs];
+    /// Builds the pattern for `n_nodes` nodes with `dofs_per_node` dofs each (dof
+    /// d of node n is `dofs_per_node · n + d`) from each element's node list. The coupling
+    /// is worked out per node pair and expanded to dof blocks, which is ~9× less sorting
+    /// than per dof in 3D. Element matrices use node-major local dof order.
+    pub fn new<E: AsRef<[usize]>>(n_nodes: usize, dofs_per_node: usize, elements: &[E]) -> Self {
+        let dpn = dofs_per_node;
+        let mut adjacent: Vec<Vec<usize>> = vec![Vec::new(); n_nodes];
         for e in elements {
-            let dofs = e.as_ref();
-            for &c in dofs {
-                rows[c].extend_from_slice(dofs);
+            let nodes = e.as_ref();
+            for &a in nodes {
+                adjacent[a].extend_from_slice(nodes);
             }
         }
-        let mut col_ptr = Vec::with_capacity(n_dofs + 1);
-        let mut row_idx = Vec::new();
-        col_ptr.push(0);
-        for col in &mut rows {
-            col.sort_unstable();
-            col.dedup();
-            row_idx.extend_from_slice(col);
-            col_ptr.push(row_idx.len());
+        for list in &mut adjacent {
+            list.sort_unstable();
+            list.dedup();
         }
+        let mut col_ptr = Vec::with_capacity(n_nodes * dpn + 1);
+        let mut row_idx =
+            Vec::with_capacity(adjacent.iter().map(Vec::len).sum::<usize>() * dpn * dpn);
+        col_ptr.push(0);
+        for list in &adjacent {
+            for _ in 0..dpn {
+                row_idx.extend(
+                    list.iter()
+                        .flat_map(|&m| (0..dpn).map(move |r| dpn * m + r)),
+                );
+                col_ptr.push(row_idx.len());
+            }
+        }
+        let n_dofs = n_nodes * dpn;
         let symbolic = SymbolicSparseColMat::new_checked(n_dofs, n_dofs, col_ptr, None, row_idx);
         let mut scatter = Vec::new();
         let mut offsets = vec![0];
         for e in elements {
-            let dofs = e.as_ref();
-            for &r in dofs {
-                for &c in dofs {
-                    scatter.push(slot(&symbolic, r, c));
+            let nodes = e.as_ref();
+            let n = nodes.len() * dpn;
+            let start = scatter.len();
+            scatter.resize(start + n * n, 0);
+            for (ib, &b) in nodes.iter().enumerate() {
+                for (ia, &a) in nodes.iter().enumerate() {
+                    let pos = adjacent[b]
+                        .binary_search(&a)
+                        .expect("a and b share an element");
+                    for db in 0..dpn {
+                        let col_start = symbolic.col_ptr()[dpn * b + db];
+                        for da in 0..dpn {
+                            let local = (ia * dpn + da) * n + ib * dpn + db;
+                            scatter[start + local] = col_start + pos * dpn + da;
+                        }
+                    }
                 }
             }
             offsets.push(scatter.len());
@@ -102,6 +127,7 @@ impl Assembler {
 }
 
 /// Index of entry (row, col) in the value array of `symbolic` (the entry must exist).
+#[cfg(test)]
 pub(crate) fn slot(symbolic: &SymbolicSparseColMat<usize>, row: usize, col: usize) -> usize {
     let start = symbolic.col_ptr()[col];
     let rows = &symbolic.row_idx()[start..symbolic.col_ptr()[col + 1]];
@@ -125,9 +151,30 @@ mod tests {
     use nalgebra::Matrix2;
 
     #[test]
+    fn two_dof_nodes_scatter_to_the_right_slots() {
+        // Two 2-node elements sharing node 1, 2 dofs per node: entry (a, b) of element e
+        // must land at global (dof(a), dof(b)).
+        let elements = [[0usize, 1], [1, 2]];
+        let asm = Assembler::new(3, 2, &elements);
+        for (e, nodes) in elements.iter().enumerate() {
+            let dofs: Vec<usize> = nodes.iter().flat_map(|&n| [2 * n, 2 * n + 1]).collect();
+            let mut v = asm.zeros();
+            let ke = nalgebra::SMatrix::<f64, 4, 4>::from_fn(|r, c| (10 * r + c) as f64 + 1.0);
+            asm.add(&mut v, e, &ke);
+            let dense = asm.matrix(&v).to_dense();
+            for r in 0..4 {
+                for c in 0..4 {
+                    assert_eq!(dense[(dofs[r], dofs[c])], ke[(r, c)]);
+                }
+            }
+        }
+        assert_eq!(asm.nnz(), 2 * 2 * 7);
+    }
+
+    #[test]
     fn two_springs_in_series() {
         // dofs 0-1-2 joined by springs k1 = 2, k2 = 3.
-        let asm = Assembler::new(3, &[[0, 1], [1, 2]]);
+        let asm = Assembler::new(3, 1, &[[0, 1], [1, 2]]);
         let mut v = asm.zeros();
         asm.add(&mut v, 0, &(Matrix2::new(1.0, -1.0, -1.0, 1.0) * 2.0));
         asm.add(&mut v, 1, &(Matrix2::new(1.0, -1.0, -1.0, 1.0) * 3.0));

@@ -65,11 +65,9 @@ impl PlaneProperties {
 
 /// Element order for the assembler: all triangles, then all line elements.
 pub fn assembler(mesh: &Mesh2d) -> Assembler {
-    let mut dofs: Vec<Vec<usize>> = (0..mesh.triangles().len())
-        .map(|i| mesh.triangle_dofs(i).to_vec())
-        .collect();
-    dofs.extend((0..mesh.lines().len()).map(|i| mesh.line_dofs(i).to_vec()));
-    Assembler::new(mesh.n_dofs(), &dofs)
+    let mut elements: Vec<&[usize]> = mesh.triangles().iter().map(|t| t.as_slice()).collect();
+    elements.extend(mesh.lines().iter().map(|l| l.as_slice()));
+    Assembler::new(mesh.nodes().len(), 2, &elements)
 }
 
 /// Writes the stiffness matrix into `values` (overwriting).

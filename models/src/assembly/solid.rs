@@ -7,8 +7,7 @@ use crate::mesh::Mesh3d;
 
 /// Assembler over the tetrahedra of `mesh`, in mesh order.
 pub fn assembler(mesh: &Mesh3d) -> Assembler {
-    let dofs: Vec<[usize; 12]> = (0..mesh.tets().len()).map(|i| mesh.tet_dofs(i)).collect();
-    Assembler::new(mesh.n_dofs(), &dofs)
+    Assembler::new(mesh.nodes().len(), 3, mesh.tets())
 }
 
 /// Writes the stiffness matrix into `values` (overwriting).

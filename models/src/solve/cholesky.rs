@@ -211,7 +211,7 @@ mod tests {
 
     fn chain(n: usize, k: f64) -> (Assembler, Vec<f64>) {
         let elems: Vec<[usize; 2]> = (0..n - 1).map(|i| [i, i + 1]).collect();
-        let asm = Assembler::new(n, &elems);
+        let asm = Assembler::new(n, 1, &elems);
         let mut v = asm.zeros();
         for e in 0..n - 1 {
             asm.add(&mut v, e, &(Matrix2::new(1.0, -1.0, -1.0, 1.0) * k));

@@ -18,7 +18,7 @@ pub struct Spectral {
 
 /// A one-dof structure with mass `m`, stiffness `k` and Rayleigh damping.
 pub fn sdof(m: f64, k: f64, damping: Damping) -> Result<Structure, ModelError> {
-    let asm = Assembler::new(1, &[[0]]);
+    let asm = Assembler::new(1, 1, &[[0]]);
     let (mut kv, mut mv) = (asm.zeros(), asm.zeros());
     asm.add(&mut kv, 0, &Matrix1::new(k));
     asm.add(&mut mv, 0, &Matrix1::new(m));

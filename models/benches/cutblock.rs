@@ -1,0 +1,117 @@
+//! Cut-block scene benchmarks on the default block (6 × 16 × 14 cubes × 5 tetrahedra).
+//!
+//! Run: `cargo bench -p models --bench cutblock`.
+
+use divan::Bencher;
+use models::scene::cutblock::{CutBlock, PROFILE_STATIONS};
+use models::scene::Scene;
+
+fn main() {
+    divan::main();
+}
+
+fn initialized() -> CutBlock {
+    let mut s = CutBlock::new();
+    s.initialize().unwrap();
+    s.set("scalpel_x", 50.0).unwrap();
+    s.do_step(0.0, 1.0).unwrap();
+    s
+}
+
+/// A step that only changes the pull: one solve with the existing factorization.
+#[divan::bench]
+fn load_only_step(bencher: Bencher) {
+    let mut s = initialized();
+    let mut pull = 0.0;
+    bencher.bench_local(|| {
+        pull = if pull == 10.0 { 5.0 } else { 10.0 };
+        s.set("pull", pull).unwrap();
+        s.do_step(0.0, 1.0).unwrap();
+    });
+}
+
+/// All outputs after a step (reaction, flank and surface measures, von Mises, profiles).
+#[divan::bench]
+fn all_outputs(bencher: Bencher) {
+    let mut s = initialized();
+    s.set("pull", 10.0).unwrap();
+    let names = [
+        "reaction_force",
+        "cut_opening",
+        "bottom_lift",
+        "x_contraction",
+        "max_von_mises",
+    ];
+    let vrs: Vec<u32> = names.iter().map(|n| s.lookup(n).unwrap()).collect();
+    let profile = s.lookup("profile_x50").unwrap();
+    let mut p = vec![0.0; PROFILE_STATIONS];
+    bencher.bench_local(|| {
+        s.do_step(0.0, 1.0).unwrap();
+        let mut x = [0.0];
+        for &vr in &vrs {
+            s.get_real(vr, &mut x).unwrap();
+        }
+        s.get_real(profile, &mut p).unwrap();
+    });
+}
+
+/// A step in which the cut grows by one cell: new mesh, pattern, symbolic analysis,
+/// assembly, factorization, solve.
+#[divan::bench]
+fn cut_growth_step(bencher: Bencher) {
+    let mut s = initialized();
+    s.set("pull", 10.0).unwrap();
+    let mut x = 50.0;
+    bencher.bench_local(|| {
+        x = if x == 50.0 { 67.0 } else { 50.0 };
+        s.set("scalpel_x", x).unwrap();
+        s.do_step(0.0, 1.0).unwrap();
+    });
+}
+
+/// A change of E: reassembly and numeric refactorization.
+#[divan::bench]
+fn material_change_step(bencher: Bencher) {
+    let mut s = initialized();
+    let mut e = 0.0385;
+    bencher.bench_local(|| {
+        e = if e == 0.0385 { 0.04 } else { 0.0385 };
+        s.set("E", e).unwrap();
+        s.do_step(0.0, 1.0).unwrap();
+    });
+}
+
+mod parts {
+    use super::*;
+    use models::mesh::cut::{split, Incision};
+    use models::mesh::generate;
+
+    fn base() -> models::mesh::Mesh3d {
+        generate::block([100.0, 80.0, 17.0], [6, 16, 14]).unwrap()
+    }
+
+    #[divan::bench]
+    fn split_nodes(bencher: Bencher) {
+        let b = base();
+        let inc = Incision {
+            y: 45.0,
+            x: (0.0, 50.0),
+            z: (8.5, 17.0),
+        };
+        bencher.bench_local(|| split(&b, &inc).unwrap());
+    }
+
+    #[divan::bench]
+    fn mesh_new(bencher: Bencher) {
+        let b = base();
+        bencher.bench_local(|| {
+            models::mesh::Mesh3d::new(b.nodes().to_vec(), b.tets().to_vec()).unwrap()
+        });
+    }
+
+    #[divan::bench]
+    fn pattern(bencher: Bencher) {
+        let b = base();
+        bencher.bench_local(|| models::assembly::solid::assembler(&b));
+    }
+}
