@@ -1,9 +1,12 @@
-//! tissuefmu harness. Until the scenes and the experiment runner land, the main job is the
-//! FE-core verification report: convergence against analytical solutions, Houbolt's spectral
-//! properties, and timings on the benchmark-sized problems.
+//! tissuefmu harness. Until the experiment runner lands, the main job is the verification
+//! report: the FE core (convergence against analytical solutions, Houbolt's spectral
+//! properties, timings) and the cut-block scene (seed comparison, refinement, hard cases).
 
 mod core_report;
+mod cutblock_report;
 
 fn main() -> anyhow::Result<()> {
-    core_report::run()
+    core_report::run()?;
+    println!();
+    cutblock_report::run()
 }

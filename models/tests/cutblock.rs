@@ -282,3 +282,17 @@ fn deletion_strategy_is_softer_than_duplication_and_opens_by_a_layer() {
     // The deleted layer is 5 mm thick at the seed's mesh.
     assert!(oe > od && oe > 5.0);
 }
+
+#[test]
+fn gripping_the_pulled_face_stiffens_the_block() {
+    let uncut = [("cut_depth", 0.0)];
+    let clamped = reaction(&uncut, &[("pull", 10.0)]);
+    let mut s = scene(&uncut, &[("support", "gripped")]);
+    step(&mut s, &[("pull", 10.0)]);
+    let gripped = get(&mut s, "reaction_force");
+    let (mesh, u) = s.field().unwrap();
+    for &n in mesh.node_sets().get("y1").unwrap() {
+        assert_eq!((u[3 * n], u[3 * n + 1], u[3 * n + 2]), (0.0, 10.0, 0.0));
+    }
+    assert!(gripped > clamped, "{gripped} vs {clamped}");
+}

@@ -55,7 +55,7 @@ fn table() -> Vec<Variable> {
         Variable::parameter("cut_depth", Fixed, "mm", 8.5, (0.0, 1e4), "incision depth from the top (0: no cut)"),
         Variable::parameter("press_radius", Fixed, "mm", 5.0, (0.0, 1e4), "top faces whose centroid lies within this distance of the scalpel tip carry the press force (at least the nearest face)"),
         Variable::string("cut_strategy", "duplicate", "`duplicate` (split nodes on the cut faces) or `delete` (remove the element layer in front of the cut)"),
-        Variable::string("support", "clamped", "`clamped` (face y = 0 fixed, face y = L: u_y prescribed) or `sliding` (only u_y on both faces, rigid modes removed)"),
+        Variable::string("support", "clamped", "`clamped` (face y = 0 fixed, face y = L: u_y prescribed, u_x, u_z free), `gripped` (face y = L also held in x and z) or `sliding` (only u_y on both faces, rigid modes removed)"),
         Variable::parameter("E", Tunable, "MPa", 0.0385, (1e-12, 1e9), "Young's modulus (seed 002 ch. 4: 0.0385 MPa)"),
         Variable::parameter("nu", Tunable, "1", 0.43, (-0.999, 0.499_999), "Poisson's ratio (seed 002 ch. 4: 0.43)"),
         Variable::input("pull", "mm", 0.0, (-1e3, 1e3), "prescribed u_y of the face y = L"),

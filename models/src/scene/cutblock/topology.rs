@@ -36,6 +36,8 @@ pub enum Support {
     /// Only u_y on both end faces, plus the three constraints that remove rigid motions
     /// (u_x, u_z at the origin, u_z at (L_x, 0, 0)): a state of exact uniaxial tension.
     Sliding,
+    /// Both faces held in rigid grips: y = 0 clamped; y = L moved in y with u_x = u_z = 0.
+    Gripped,
 }
 
 impl Support {
@@ -43,8 +45,9 @@ impl Support {
         match s {
             "clamped" => Ok(Self::Clamped),
             "sliding" => Ok(Self::Sliding),
+            "gripped" => Ok(Self::Gripped),
             _ => Err(SceneError::Config(format!(
-                "support `{s}`: use `clamped` or `sliding`"
+                "support `{s}`: use `clamped`, `sliding` or `gripped`"
             ))),
         }
     }
@@ -185,9 +188,12 @@ impl Topology {
         check_supported(&mesh, clamped)?;
         let pulled = sets.get("y1")?.to_vec();
         let mut fixed: Vec<usize> = pulled.iter().map(|n| 3 * n + 1).collect();
+        let all = |n: &usize| [3 * n, 3 * n + 1, 3 * n + 2];
         match g.support {
-            Support::Clamped => {
-                fixed.extend(clamped.iter().flat_map(|n| [3 * n, 3 * n + 1, 3 * n + 2]))
+            Support::Clamped => fixed.extend(clamped.iter().flat_map(all)),
+            Support::Gripped => {
+                fixed.extend(clamped.iter().flat_map(all));
+                fixed.extend(pulled.iter().flat_map(|n| [3 * n, 3 * n + 2]));
             }
             Support::Sliding => {
                 fixed.extend(clamped.iter().map(|n| 3 * n + 1));
