@@ -3,6 +3,7 @@
 //! `do_step(t, h)`. The FMU layer and the harness drive every scene through this trait only;
 //! `modelDescription.xml` is generated from the same table.
 
+pub mod abdomen;
 pub mod cutblock;
 mod variables;
 

@@ -37,7 +37,11 @@ pub struct Structure {
     m: Vec<f64>,
     c: Vec<f64>,
     lumped: Vec<f64>,
-    damping: Damping,
+    /// `Some`: C is rebuilt from M and K as Rayleigh damping; `None`: C was assembled by the
+    /// caller ([`Structure::set_damping_matrix`]) and is kept as given.
+    rayleigh: Option<Damping>,
+    /// Whether C has any non-zero entry (the schemes skip its products otherwise).
+    damped: bool,
     layout: Layout,
 }
 
@@ -69,7 +73,8 @@ impl Structure {
             c: vec![0.0; nnz],
             bc,
             lumped,
-            damping,
+            rayleigh: Some(damping),
+            damped: false,
             layout,
         };
         s.bc.combine(&[(1.0, m_full)], &mut s.m);
@@ -84,18 +89,21 @@ impl Structure {
         self.rebuild_damping();
     }
 
-    /// Replaces the damping model. Integrators must be `prepare`d again afterwards.
-    pub fn set_damping(&mut self, damping: Damping) -> Result<(), ModelError> {
-        damping.check()?;
-        self.damping = damping;
-        self.rebuild_damping();
-        Ok(())
+    /// Replaces the damping by an assembled damping matrix (full-pattern values), e.g. one
+    /// with different Rayleigh coefficients per tissue. It is kept as given when the
+    /// stiffness changes. Integrators must be `prepare`d again afterwards.
+    pub fn set_damping_matrix(&mut self, c_full: &[f64]) {
+        self.rayleigh = None;
+        self.bc.combine(&[(1.0, c_full)], &mut self.c);
+        self.damped = self.c.iter().any(|&c| c != 0.0);
     }
 
     fn rebuild_damping(&mut self) {
-        let Damping { alpha, beta } = self.damping;
-        for ((c, m), k) in self.c.iter_mut().zip(&self.m).zip(&self.k) {
-            *c = alpha * m + beta * k;
+        if let Some(Damping { alpha, beta }) = self.rayleigh {
+            for ((c, m), k) in self.c.iter_mut().zip(&self.m).zip(&self.k) {
+                *c = alpha * m + beta * k;
+            }
+            self.damped = alpha != 0.0 || beta != 0.0;
         }
     }
 
@@ -105,9 +113,6 @@ impl Structure {
     }
     pub fn dirichlet(&self) -> &Dirichlet {
         &self.bc
-    }
-    pub fn damping(&self) -> Damping {
-        self.damping
     }
     pub fn layout(&self) -> Layout {
         self.layout
@@ -142,7 +147,7 @@ impl Structure {
     pub fn residual(&self, f: &[f64], u: &[f64], v: &[f64], out: &mut [f64]) {
         out.copy_from_slice(f);
         mul_add(self.stiffness(), u, -1.0, out);
-        if self.damping != Damping::NONE {
+        if self.damped {
             mul_add(self.damping_matrix(), v, -1.0, out);
         }
     }
@@ -163,7 +168,7 @@ impl Structure {
     /// out ← out + M x_m + C x_c (the history terms of the implicit schemes).
     pub fn add_mass_damping(&self, x_m: &[f64], x_c: &[f64], out: &mut [f64]) {
         mul_add(self.mass(), x_m, 1.0, out);
-        if self.damping != Damping::NONE {
+        if self.damped {
             mul_add(self.damping_matrix(), x_c, 1.0, out);
         }
     }

@@ -1,0 +1,119 @@
+//! Pelvis/spine configuration files (TOML): either explicit control points for the five
+//! boundary parts, or anatomical parameters for the generator. Example:
+//!
+//! ```toml
+//! name = "narrow"
+//! description = "pelvic outlet 100 mm"
+//! [control_points]
+//! spine = [[-20.0, 260.0], [5.0, 117.0], [-45.0, 59.8], [0.0, 0.0]]
+//! pelvic_floor = [[0.0, 0.0], [52.1, -7.1], [94.0, 34.2]]
+//! # pelvic_bone, abdominal_wall, diaphragm likewise, each starting where the previous ends
+//! ```
+//!
+//! or `[anatomy]` with any of `height`, `depth`, `dome`, `lordosis`, `outlet`, `pelvic_tilt`,
+//! `floor_sag`, `symphysis`, `wall_bulge` (see [`Anatomy`]).
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::anatomy::Anatomy;
+use super::geometry::ControlPoints;
+use crate::scene::SceneError;
+
+/// A configuration file's content.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PelvisConfig {
+    #[serde(default)]
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+    pub control_points: Option<ControlPoints>,
+    pub anatomy: Option<Anatomy>,
+}
+
+impl PelvisConfig {
+    /// The built-in default: the generator's default anatomy.
+    pub fn builtin() -> Self {
+        Self {
+            name: "default".into(),
+            description: "built-in default anatomy".into(),
+            control_points: None,
+            anatomy: Some(Anatomy::default()),
+        }
+    }
+
+    /// Parses TOML text; `origin` names the source in errors.
+    pub fn parse(text: &str, origin: &str) -> Result<Self, SceneError> {
+        let config: Self =
+            toml::from_str(text).map_err(|e| SceneError::Config(format!("{origin}: {e}")))?;
+        match (&config.control_points, &config.anatomy) {
+            (Some(_), Some(_)) | (None, None) => Err(SceneError::Config(format!(
+                "{origin}: give exactly one of [control_points] and [anatomy]"
+            ))),
+            _ => Ok(config),
+        }
+    }
+
+    /// Reads a file.
+    pub fn load(path: &Path) -> Result<Self, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            SceneError::Config(format!("configuration file {}: {e}", path.display()))
+        })?;
+        Self::parse(&text, &path.display().to_string())
+    }
+
+    /// Resolves the `configuration` parameter: empty → built-in; a value containing a path
+    /// separator or ending in `.toml` → that file; otherwise `<resources>/<value>.toml`.
+    pub fn resolve(value: &str, resources: &Path) -> Result<Self, SceneError> {
+        if value.is_empty() {
+            return Ok(Self::builtin());
+        }
+        let path = if value.contains('/') || value.contains('\\') || value.ends_with(".toml") {
+            PathBuf::from(value)
+        } else {
+            resources.join(format!("{value}.toml"))
+        };
+        if !path.is_file() {
+            return Err(SceneError::Config(format!(
+                "configuration `{value}`: no file {} (shipped configurations live in {})",
+                path.display(),
+                resources.display()
+            )));
+        }
+        Self::load(&path)
+    }
+
+    /// The control points, generating them from the anatomy if needed.
+    pub fn control_points(&self) -> Result<ControlPoints, SceneError> {
+        match (&self.control_points, &self.anatomy) {
+            (Some(p), _) => Ok(p.clone()),
+            (None, Some(a)) => a.control_points(),
+            (None, None) => Err(SceneError::Config("configuration has no geometry".into())),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parse_errors_name_the_key() {
+        let e = PelvisConfig::parse("[anatomy]\noutlett = 3.0\n", "x.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("x.toml") && e.contains("outlett"), "{e}");
+        let e = PelvisConfig::parse("name = \"a\"\n", "y.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("exactly one"), "{e}");
+        let c = PelvisConfig::parse("[anatomy]\noutlet = 100.0\n", "z.toml").unwrap();
+        assert_eq!(c.anatomy.unwrap().outlet, 100.0);
+        let e = PelvisConfig::resolve("nonexistent", Path::new("/nowhere"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("nonexistent"), "{e}");
+    }
+}

@@ -1,0 +1,309 @@
+//! The boundary of the midsagittal cavity (seed 003 §5.4): five parts given by control
+//! points, joined end to start in counter-clockwise order (x anterior, y superior, mm):
+//! spine (posterior, top → coccyx), pelvic floor (coccyx → pubic bone), pelvic bone
+//! (→ top of the pubic symphysis), abdominal wall (anterior, → lower rib margin), diaphragm
+//! (→ back to the spine). Each part is an interpolating centripetal Catmull–Rom spline
+//! (Yuksel, Schaefer & Keyser 2011) through its control points — seed 003 §5.3 uses
+//! Catmull–Rom curves; the centripetal variant cannot form cusps or loops within a segment.
+
+use serde::{Deserialize, Serialize};
+
+use crate::scene::SceneError;
+
+/// The boundary parts in boundary order.
+pub const PARTS: [&str; 5] = [
+    "spine",
+    "pelvic_floor",
+    "pelvic_bone",
+    "abdominal_wall",
+    "diaphragm",
+];
+
+/// Control points of the five parts (mm).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ControlPoints {
+    pub spine: Vec<[f64; 2]>,
+    pub pelvic_floor: Vec<[f64; 2]>,
+    pub pelvic_bone: Vec<[f64; 2]>,
+    pub abdominal_wall: Vec<[f64; 2]>,
+    pub diaphragm: Vec<[f64; 2]>,
+}
+
+impl ControlPoints {
+    /// The parts in boundary order.
+    pub fn parts(&self) -> [&[[f64; 2]]; 5] {
+        [
+            &self.spine,
+            &self.pelvic_floor,
+            &self.pelvic_bone,
+            &self.abdominal_wall,
+            &self.diaphragm,
+        ]
+    }
+}
+
+/// A sampled closed boundary: vertices in counter-clockwise order and, for each segment
+/// (vertex i → i + 1, wrapping), the part it belongs to.
+#[derive(Debug, Clone)]
+pub struct Boundary {
+    pub vertices: Vec<[f64; 2]>,
+    pub segment_part: Vec<usize>,
+}
+
+fn geometry_error(part: &str, what: String) -> SceneError {
+    SceneError::Config(format!("geometry, part `{part}`: {what}"))
+}
+
+/// Point on the centripetal Catmull–Rom segment between p1 and p2 at local parameter s ∈ [0, 1]
+/// (Barry–Goldman pyramidal form with knot spacing |Δp|^½).
+fn catmull_rom(p: [[f64; 2]; 4], s: f64) -> [f64; 2] {
+    let dist = |a: [f64; 2], b: [f64; 2]| ((a[0] - b[0]).hypot(a[1] - b[1])).sqrt().max(1e-12);
+    let t0 = 0.0;
+    let t1 = t0 + dist(p[0], p[1]);
+    let t2 = t1 + dist(p[1], p[2]);
+    let t3 = t2 + dist(p[2], p[3]);
+    let t = t1 + s * (t2 - t1);
+    let lerp = |a: [f64; 2], b: [f64; 2], ta: f64, tb: f64| {
+        let w = (t - ta) / (tb - ta);
+        [a[0] + w * (b[0] - a[0]), a[1] + w * (b[1] - a[1])]
+    };
+    let a1 = lerp(p[0], p[1], t0, t1);
+    let a2 = lerp(p[1], p[2], t1, t2);
+    let a3 = lerp(p[2], p[3], t2, t3);
+    let b1 = lerp(a1, a2, t0, t2);
+    let b2 = lerp(a2, a3, t1, t3);
+    lerp(b1, b2, t1, t2)
+}
+
+/// A dense polyline through the control points (end segments use mirrored phantom points).
+fn dense_curve(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    let n = points.len();
+    let mirror = |a: [f64; 2], b: [f64; 2]| [2.0 * a[0] - b[0], 2.0 * a[1] - b[1]];
+    let get = |i: isize| -> [f64; 2] {
+        if i < 0 {
+            mirror(points[0], points[1])
+        } else if i as usize >= n {
+            mirror(points[n - 1], points[n - 2])
+        } else {
+            points[i as usize]
+        }
+    };
+    let mut out = vec![points[0]];
+    const PER_SEGMENT: usize = 64;
+    for i in 0..n - 1 {
+        let quad = [
+            get(i as isize - 1),
+            get(i as isize),
+            get(i as isize + 1),
+            get(i as isize + 2),
+        ];
+        for k in 1..=PER_SEGMENT {
+            out.push(catmull_rom(quad, k as f64 / PER_SEGMENT as f64));
+        }
+    }
+    out
+}
+
+/// Resamples a polyline at equal arc-length steps of about `h` (at least one segment).
+fn resample(curve: &[[f64; 2]], h: f64) -> Vec<[f64; 2]> {
+    let mut cumulative = vec![0.0];
+    for w in curve.windows(2) {
+        let l = (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]);
+        cumulative.push(cumulative.last().unwrap() + l);
+    }
+    let total = *cumulative.last().unwrap();
+    let segments = ((total / h).round() as usize).max(1);
+    let mut out = Vec::with_capacity(segments + 1);
+    let mut j = 0;
+    for k in 0..=segments {
+        let s = total * k as f64 / segments as f64;
+        while j + 2 < cumulative.len() && cumulative[j + 1] < s {
+            j += 1;
+        }
+        let span = cumulative[j + 1] - cumulative[j];
+        let w = if span > 0.0 {
+            ((s - cumulative[j]) / span).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        out.push([
+            curve[j][0] + w * (curve[j + 1][0] - curve[j][0]),
+            curve[j][1] + w * (curve[j + 1][1] - curve[j][1]),
+        ]);
+    }
+    *out.last_mut().unwrap() = *curve.last().unwrap();
+    out
+}
+
+fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+    let orient = |p: [f64; 2], q: [f64; 2], r: [f64; 2]| {
+        (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+    };
+    let (d1, d2) = (orient(a, b, c), orient(a, b, d));
+    let (d3, d4) = (orient(c, d, a), orient(c, d, b));
+    d1 * d2 < 0.0 && d3 * d4 < 0.0
+}
+
+impl Boundary {
+    /// Checks the parts (at least two points each, each part starting where the previous
+    /// one ends, the last ending where the first starts), samples each spline at spacing
+    /// `h` and checks that the closed curve neither crosses itself nor runs clockwise.
+    pub fn new(points: &ControlPoints, h: f64) -> Result<Self, SceneError> {
+        let parts = points.parts();
+        let scale = parts
+            .iter()
+            .flat_map(|p| p.iter())
+            .fold(0.0f64, |m, q| m.max(q[0].abs()).max(q[1].abs()));
+        let tol = 1e-6 * scale.max(1.0);
+        for (i, part) in parts.iter().enumerate() {
+            if part.len() < 2 {
+                return Err(geometry_error(
+                    PARTS[i],
+                    format!("needs at least 2 control points, has {}", part.len()),
+                ));
+            }
+            if let Some(p) = part
+                .iter()
+                .find(|p| !(p[0].is_finite() && p[1].is_finite()))
+            {
+                return Err(geometry_error(
+                    PARTS[i],
+                    format!("control point {p:?} is not finite"),
+                ));
+            }
+            let next = (i + 1) % parts.len();
+            let (end, start) = (part[part.len() - 1], parts[next][0]);
+            if (end[0] - start[0]).hypot(end[1] - start[1]) > tol {
+                return Err(geometry_error(
+                    PARTS[i],
+                    format!(
+                        "ends at {end:?} but `{}` starts at {start:?}: the boundary is open",
+                        PARTS[next]
+                    ),
+                ));
+            }
+        }
+        let mut vertices = Vec::new();
+        let mut segment_part = Vec::new();
+        for (i, part) in parts.iter().enumerate() {
+            let sampled = resample(&dense_curve(part), h);
+            vertices.extend_from_slice(&sampled[..sampled.len() - 1]);
+            segment_part.extend(std::iter::repeat_n(i, sampled.len() - 1));
+        }
+        let b = Self {
+            vertices,
+            segment_part,
+        };
+        b.check_simple()?;
+        if b.signed_area() <= 0.0 {
+            return Err(SceneError::Config(
+                "geometry: the parts run clockwise (spine → pelvic floor → pelvic bone → abdominal wall → \
+                 diaphragm must go counter-clockwise with x anterior, y superior)"
+                    .into(),
+            ));
+        }
+        Ok(b)
+    }
+
+    fn segment(&self, i: usize) -> ([f64; 2], [f64; 2]) {
+        (
+            self.vertices[i],
+            self.vertices[(i + 1) % self.vertices.len()],
+        )
+    }
+
+    fn check_simple(&self) -> Result<(), SceneError> {
+        let n = self.vertices.len();
+        for i in 0..n {
+            for j in i + 2..n {
+                if i == 0 && j == n - 1 {
+                    continue;
+                }
+                let ((a, b), (c, d)) = (self.segment(i), self.segment(j));
+                if segments_cross(a, b, c, d) {
+                    let (pi, pj) = (PARTS[self.segment_part[i]], PARTS[self.segment_part[j]]);
+                    return Err(SceneError::Config(format!(
+                        "geometry: the curve of `{pi}` crosses the curve of `{pj}` near {a:?}"
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Signed area (positive for counter-clockwise).
+    pub fn signed_area(&self) -> f64 {
+        let n = self.vertices.len();
+        0.5 * (0..n)
+            .map(|i| {
+                let (a, b) = self.segment(i);
+                a[0] * b[1] - b[0] * a[1]
+            })
+            .sum::<f64>()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square() -> ControlPoints {
+        ControlPoints {
+            spine: vec![[0.0, 100.0], [0.0, 0.0]],
+            pelvic_floor: vec![[0.0, 0.0], [50.0, 0.0]],
+            pelvic_bone: vec![[50.0, 0.0], [100.0, 0.0]],
+            abdominal_wall: vec![[100.0, 0.0], [100.0, 100.0]],
+            diaphragm: vec![[100.0, 100.0], [0.0, 100.0]],
+        }
+    }
+
+    #[test]
+    fn catmull_rom_interpolates_its_control_points() {
+        let pts = vec![[0.0, 0.0], [10.0, 5.0], [20.0, -3.0], [35.0, 0.0]];
+        let dense = dense_curve(&pts);
+        for p in &pts {
+            assert!(dense
+                .iter()
+                .any(|q| (q[0] - p[0]).abs() < 1e-9 && (q[1] - p[1]).abs() < 1e-9));
+        }
+        // Straight control points give a straight curve.
+        let line = dense_curve(&[[0.0, 0.0], [1.0, 1.0], [3.0, 3.0]]);
+        assert!(line.iter().all(|q| (q[0] - q[1]).abs() < 1e-9));
+    }
+
+    #[test]
+    fn square_boundary_samples_and_orients() {
+        let b = Boundary::new(&square(), 10.0).unwrap();
+        assert_eq!(b.vertices.len(), 40);
+        assert!((b.signed_area() - 10_000.0).abs() < 1e-6);
+        assert_eq!(b.segment_part.iter().filter(|&&p| p == 1).count(), 5);
+    }
+
+    #[test]
+    fn bad_boundaries_name_the_part() {
+        let mut open = square();
+        open.pelvic_bone[1] = [90.0, 0.0];
+        let e = Boundary::new(&open, 10.0).unwrap_err().to_string();
+        assert!(e.contains("pelvic_bone") && e.contains("open"), "{e}");
+        let mut few = square();
+        few.spine = vec![[0.0, 100.0]];
+        let e = Boundary::new(&few, 10.0).unwrap_err().to_string();
+        assert!(e.contains("spine") && e.contains("at least 2"), "{e}");
+        let mut crossing = square();
+        crossing.abdominal_wall = vec![[100.0, 0.0], [-20.0, 50.0], [100.0, 100.0]];
+        let e = Boundary::new(&crossing, 10.0).unwrap_err().to_string();
+        assert!(e.contains("crosses"), "{e}");
+        let cw = ControlPoints {
+            spine: vec![[0.0, 0.0], [0.0, 100.0]],
+            pelvic_floor: vec![[0.0, 100.0], [100.0, 100.0]],
+            pelvic_bone: vec![[100.0, 100.0], [100.0, 50.0]],
+            abdominal_wall: vec![[100.0, 50.0], [100.0, 0.0]],
+            diaphragm: vec![[100.0, 0.0], [0.0, 0.0]],
+        };
+        assert!(Boundary::new(&cw, 10.0)
+            .unwrap_err()
+            .to_string()
+            .contains("clockwise"));
+    }
+}

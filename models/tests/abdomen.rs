@@ -1,0 +1,244 @@
+//! The abdomen scene: shipped configurations, the seed's findings, the quasi-static limit,
+//! mesh convergence and hard cases.
+
+use models::scene::abdomen::Abdomen;
+use models::scene::{Scene, SceneError};
+
+fn scene(strings: &[(&str, &str)], reals: &[(&str, f64)]) -> Abdomen {
+    let mut s = Abdomen::new();
+    for (k, v) in strings {
+        s.set_str(k, v).unwrap();
+    }
+    for (k, v) in reals {
+        s.set(k, *v).unwrap();
+    }
+    s.initialize().unwrap();
+    s
+}
+
+/// Runs `seconds` at dt = 1 ms and returns the peak of each named output over the run.
+fn peaks(s: &mut Abdomen, seconds: f64, names: &[&str]) -> Vec<f64> {
+    let mut peak = vec![f64::NEG_INFINITY; names.len()];
+    let steps = (seconds / 1e-3).round() as usize;
+    for i in 0..steps {
+        s.do_step(i as f64 * 1e-3, 1e-3).unwrap();
+        for (p, n) in peak.iter_mut().zip(names) {
+            *p = p.max(s.get(n).unwrap());
+        }
+    }
+    peak
+}
+
+const FLOOR: [&str; 2] = ["floor_stress_mean", "floor_stress_max"];
+
+#[test]
+fn shipped_configurations_run_and_narrow_pelvis_loads_the_floor_less() {
+    let mut results = Vec::new();
+    for cfg in ["narrow", "normal", "wide", "lordotic", "tilted"] {
+        let mut s = scene(&[("configuration", cfg)], &[]);
+        let m = s.meshed().unwrap();
+        assert!(m.min_angle >= 20.0, "{cfg}: min angle {}", m.min_angle);
+        let p = peaks(&mut s, 1.0, &FLOOR);
+        println!(
+            "{cfg}: peak floor stress mean {:.5} MPa, max {:.5} MPa",
+            p[0], p[1]
+        );
+        assert!(p.iter().all(|x| x.is_finite() && *x > 0.0));
+        results.push(p);
+    }
+    // Seed 003 §5.4: a narrower pelvis gives lower mean and max pelvic-floor stress.
+    let (narrow, normal, wide) = (&results[0], &results[1], &results[2]);
+    for k in 0..2 {
+        assert!(
+            narrow[k] < normal[k] && normal[k] < wide[k],
+            "{FLOOR:?}[{k}]: {narrow:?} {normal:?} {wide:?}"
+        );
+    }
+}
+
+#[test]
+fn stiffer_abdominal_wall_lowers_pelvic_floor_stress() {
+    let soft = peaks(&mut scene(&[], &[]), 1.0, &FLOOR);
+    let stiff = peaks(&mut scene(&[], &[("wall_E", 0.225)]), 1.0, &FLOOR);
+    println!("wall E 22.5 kPa: {soft:.5?}; 225 kPa: {stiff:.5?}");
+    assert!(stiff[0] < soft[0] && stiff[1] < soft[1]);
+}
+
+/// Σ|u_x| / Σ|u_y| over all nodes.
+fn horizontal_share(s: &Abdomen) -> f64 {
+    let u = s.field().unwrap().2;
+    let sx: f64 = u.iter().step_by(2).map(|x| x.abs()).sum();
+    let sy: f64 = u.iter().skip(1).step_by(2).map(|y| y.abs()).sum();
+    sx / sy
+}
+
+#[test]
+fn a_free_wall_lets_the_field_move_more_horizontally() {
+    let mut free = scene(&[], &[]);
+    let mut fixed = scene(&[("abdominal_wall", "fixed")], &[]);
+    peaks(&mut free, 0.5, &[]);
+    peaks(&mut fixed, 0.5, &[]);
+    let (a, b) = (horizontal_share(&free), horizontal_share(&fixed));
+    println!("horizontal/vertical displacement: free wall {a:.3}, fixed wall {b:.3}");
+    assert!(a > b);
+}
+
+#[test]
+fn slow_pressing_matches_the_static_solution() {
+    // 0.01 Hz is far below the cavity's lowest natural frequency (about 1 Hz, see the
+    // benchmark notes); at the sine's peak the response must equal the static one.
+    let mut s = scene(&[], &[("press_frequency", 0.01), ("max_step", 0.01)]);
+    let period = 100.0;
+    let steps = 2500;
+    for i in 0..steps {
+        s.do_step(i as f64 * 0.01, 0.01).unwrap();
+    }
+    assert!((s.time() - period / 4.0).abs() < 1e-9);
+    let dynamic = s.field().unwrap().2.to_vec();
+    let stat = s.static_displacement(0.8).unwrap();
+    let diff: f64 = dynamic
+        .iter()
+        .zip(&stat)
+        .map(|(a, b)| (a - b).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    let norm: f64 = stat.iter().map(|b| b * b).sum::<f64>().sqrt();
+    println!(
+        "quasi-static: |u_dyn - u_static| / |u_static| = {:.3e}",
+        diff / norm
+    );
+    assert!(diff / norm < 0.01);
+}
+
+#[test]
+fn pelvic_floor_stress_converges_under_refinement() {
+    let mut values = Vec::new();
+    for n in [1500.0, 6000.0, 24000.0] {
+        let s = scene(&[], &[("target_triangles", n)]);
+        let u = s.static_displacement(0.8).unwrap();
+        let out = s.evaluate(&u, 0.8).unwrap();
+        println!(
+            "{} triangles: floor stress mean {:.6} max {:.6} MPa",
+            s.meshed().unwrap().mesh.triangles().len(),
+            out[0],
+            out[1]
+        );
+        values.push(out[0]);
+    }
+    // Each 4× refinement changes the mean floor stress by less than 1 %.
+    for w in values.windows(2) {
+        assert!(((w[1] - w[0]) / w[1]).abs() < 0.01, "{values:?}");
+    }
+}
+
+#[test]
+fn stiffness_change_mid_run_takes_effect_and_continues() {
+    let mut a = scene(&[], &[]);
+    let mut b = scene(&[], &[]);
+    peaks(&mut a, 0.2, &[]);
+    peaks(&mut b, 0.2, &[]);
+    b.set("floor_E", 1.0).unwrap();
+    a.do_step(0.2, 1e-3).unwrap();
+    b.do_step(0.2, 1e-3).unwrap();
+    // Same state before the change, so the first step after it differs only through K.
+    let (ua, ub) = (a.field().unwrap().2.to_vec(), b.field().unwrap().2.to_vec());
+    assert!(ua != ub);
+    let mut c = scene(&[], &[("floor_E", 1.0)]);
+    let stiff = peaks(&mut c, 0.5, &FLOOR);
+    assert!(stiff[0].is_finite());
+}
+
+#[test]
+fn hard_cases_stay_bounded() {
+    // ν = 0.499 and line elements 1e6 times stiffer than the cavity.
+    for reals in [
+        vec![("cavity_nu", 0.499)],
+        vec![("wall_E", 5e3), ("diaphragm_E", 5e3), ("floor_E", 5e3)],
+    ] {
+        let mut s = scene(&[], &reals);
+        let p = peaks(&mut s, 0.3, &["cavity_vm_max"]);
+        assert!(p[0].is_finite(), "{reals:?}");
+    }
+    // Houbolt from dt = 1e-5 s to 0.1 s: bounded by the static response to the peak force.
+    let bound = {
+        let s = scene(&[], &[]);
+        let u = s.static_displacement(0.8).unwrap();
+        u.iter().fold(0.0f64, |a, b| a.max(b.abs()))
+    };
+    for dt in [1e-5, 1e-3, 0.1] {
+        let mut s = scene(&[], &[("max_step", dt)]);
+        let mut worst: f64 = 0.0;
+        for i in 0..200 {
+            s.do_step(i as f64 * dt, dt).unwrap();
+            worst = worst.max(
+                s.field()
+                    .unwrap()
+                    .2
+                    .iter()
+                    .fold(0.0f64, |a, b| a.max(b.abs())),
+            );
+        }
+        println!("dt {dt:e}: max |u| {worst:.4e} (static peak {bound:.4e})");
+        assert!(worst.is_finite() && worst < 2.0 * bound);
+    }
+}
+
+#[test]
+fn central_difference_above_its_limit_is_refused() {
+    let mut s = scene(
+        &[("integrator", "central_difference")],
+        &[("max_step", 1e-3)],
+    );
+    let err = s.do_step(0.0, 1e-3).unwrap_err().to_string();
+    assert!(
+        err.contains("unstable") && err.contains("central_difference"),
+        "{err}"
+    );
+    // Below the limit it runs.
+    let mut s = scene(
+        &[("integrator", "central_difference")],
+        &[("max_step", 1e-6)],
+    );
+    s.do_step(0.0, 1e-4).unwrap();
+}
+
+#[test]
+fn bad_configurations_are_clear_errors() {
+    let mut s = Abdomen::new();
+    s.set_str("configuration", "no_such_pelvis").unwrap();
+    let e = s.initialize().unwrap_err().to_string();
+    assert!(e.contains("no_such_pelvis"), "{e}");
+    let dir = std::env::temp_dir().join(format!("abdomen-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let open = dir.join("open.toml");
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../experiments/pelvis/normal.toml"
+    ))
+    .unwrap();
+    std::fs::write(
+        &open,
+        text.replace("diaphragm = [[140.0, 260.0]", "diaphragm = [[141.0, 260.0]"),
+    )
+    .unwrap();
+    let mut s = Abdomen::new();
+    s.set_str("configuration", open.to_str().unwrap()).unwrap();
+    let e = s.initialize().unwrap_err().to_string();
+    assert!(e.contains("abdominal_wall") && e.contains("open"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+    let mut s = Abdomen::new();
+    assert!(matches!(
+        s.set_str("integrator", "euler"),
+        Err(SceneError::Model(_))
+    ));
+    assert!(s
+        .set("cavity_nu", 0.5)
+        .unwrap_err()
+        .to_string()
+        .contains("cavity_nu"));
+    assert!(s
+        .set_str("abdominal_wall", "glued")
+        .unwrap_err()
+        .to_string()
+        .contains("glued"));
+}
