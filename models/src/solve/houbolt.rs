@@ -119,7 +119,7 @@ impl Integrator for Houbolt {
             self.mass_part[i] = (5.0 * u[i] - 4.0 * u1[i] + u2[i]) / (dt * dt);
             self.damping_part[i] = (3.0 * u[i] - 1.5 * u1[i] + u2[i] / 3.0) / dt;
         }
-        s.add_mass_damping(&self.mass_part, &self.damping_part, &mut self.rhs);
+        s.add_mass_damping(&mut self.mass_part, &self.damping_part, &mut self.rhs);
         self.effective.solve(&mut self.rhs);
         // Rotate history: u_{n−2} ← u_{n−1} ← u_n ← u_{n+1}; rhs now holds u_{n+1}.
         let [b1, b2] = &mut self.back;

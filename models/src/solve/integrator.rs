@@ -189,6 +189,9 @@ pub(crate) fn consistent_acceleration(
     let mut f = vec![0.0; s.n()];
     load(state.t, &mut f);
     s.residual(&f, &state.u, &state.v, &mut state.a);
+    if state.a.iter().all(|&x| x == 0.0) {
+        return Ok(()); // at rest and unloaded: a₀ = 0 without a factorization of M
+    }
     let mut chol = s.analyze()?;
     chol.factorize(s.mass())?;
     chol.solve_in_place(&mut state.a);

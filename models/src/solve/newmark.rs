@@ -65,7 +65,7 @@ impl Integrator for Newmark {
             self.mass_part[i] = 4.0 / (dt * dt) * u[i] + 4.0 / dt * v[i] + a[i];
             self.damping_part[i] = 2.0 / dt * u[i] + v[i];
         }
-        s.add_mass_damping(&self.mass_part, &self.damping_part, &mut self.rhs);
+        s.add_mass_damping(&mut self.mass_part, &self.damping_part, &mut self.rhs);
         self.effective.solve(&mut self.rhs);
         for i in 0..u.len() {
             let a1 = 4.0 / (dt * dt) * (self.rhs[i] - u[i]) - 4.0 / dt * v[i] - a[i];

@@ -42,6 +42,8 @@ pub struct Structure {
     rayleigh: Option<Damping>,
     /// Whether C has any non-zero entry (the schemes skip its products otherwise).
     damped: bool,
+    /// `Some(α)` when C = α M exactly: the history terms then need one product, not two.
+    mass_proportional: Option<f64>,
     layout: Layout,
 }
 
@@ -75,6 +77,7 @@ impl Structure {
             lumped,
             rayleigh: Some(damping),
             damped: false,
+            mass_proportional: None,
             layout,
         };
         s.bc.combine(&[(1.0, m_full)], &mut s.m);
@@ -96,6 +99,19 @@ impl Structure {
         self.rayleigh = None;
         self.bc.combine(&[(1.0, c_full)], &mut self.c);
         self.damped = self.c.iter().any(|&c| c != 0.0);
+        self.mass_proportional = self.proportionality();
+    }
+
+    /// α if C = α M entry by entry (to round-off), else `None`.
+    fn proportionality(&self) -> Option<f64> {
+        let k = self.m.iter().position(|&m| m != 0.0)?;
+        let alpha = self.c[k] / self.m[k];
+        let scale = self.c.iter().fold(0.0f64, |a, c| a.max(c.abs()));
+        self.c
+            .iter()
+            .zip(&self.m)
+            .all(|(c, m)| (c - alpha * m).abs() <= 1e-12 * scale)
+            .then_some(alpha)
     }
 
     fn rebuild_damping(&mut self) {
@@ -104,6 +120,7 @@ impl Structure {
                 *c = alpha * m + beta * k;
             }
             self.damped = alpha != 0.0 || beta != 0.0;
+            self.mass_proportional = (beta == 0.0).then_some(alpha);
         }
     }
 
@@ -165,11 +182,20 @@ impl Structure {
 }
 
 impl Structure {
-    /// out ← out + M x_m + C x_c (the history terms of the implicit schemes).
-    pub fn add_mass_damping(&self, x_m: &[f64], x_c: &[f64], out: &mut [f64]) {
-        mul_add(self.mass(), x_m, 1.0, out);
-        if self.damped {
-            mul_add(self.damping_matrix(), x_c, 1.0, out);
+    /// out ← out + M x_m + C x_c (the history terms of the implicit schemes). `x_m` is used
+    /// as scratch: when C = α M this is one product, M (x_m + α x_c).
+    pub fn add_mass_damping(&self, x_m: &mut [f64], x_c: &[f64], out: &mut [f64]) {
+        match self.mass_proportional {
+            Some(alpha) => {
+                x_m.iter_mut().zip(x_c).for_each(|(m, c)| *m += alpha * c);
+                mul_add(self.mass(), x_m, 1.0, out);
+            }
+            None => {
+                mul_add(self.mass(), x_m, 1.0, out);
+                if self.damped {
+                    mul_add(self.damping_matrix(), x_c, 1.0, out);
+                }
+            }
         }
     }
 }
