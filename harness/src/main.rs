@@ -1,12 +1,16 @@
 //! tissuefmu harness. Until the experiment runner lands, the main job is the verification
 //! report: the FE core (convergence against analytical solutions, Houbolt's spectral
-//! properties, timings) and the cut-block scene (seed comparison, refinement, hard cases).
+//! properties, timings), the cut-block scene (seed comparison, refinement, hard cases) and the
+//! abdomen scene (mesh quality, the seed's findings, convergence, timings).
 
+mod abdomen_report;
 mod core_report;
 mod cutblock_report;
 
 fn main() -> anyhow::Result<()> {
     core_report::run()?;
     println!();
-    cutblock_report::run()
+    cutblock_report::run()?;
+    println!();
+    abdomen_report::run()
 }
