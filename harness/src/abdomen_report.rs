@@ -53,7 +53,7 @@ pub fn run() -> Result<()> {
     }
     println!("   peak pelvic-floor stress over the first second (MPa):");
     println!("   {:<28} {:>10} {:>10}", "case", "mean", "max");
-    let mut row = |label: &str, s: &mut Abdomen| -> Result<()> {
+    let row = |label: &str, s: &mut Abdomen| -> Result<()> {
         let p = floor_peaks(s)?;
         println!("   {label:<28} {:>10.5} {:>10.5}", p[0], p[1]);
         Ok(())
