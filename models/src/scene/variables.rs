@@ -272,6 +272,31 @@ impl Values {
         Ok(())
     }
 
+    /// Reads a parameter or input into `out` (length checked) and returns `true`; returns
+    /// `false` for an output, which the scene computes itself.
+    pub fn read(&self, vr: u32, out: &mut [f64]) -> Result<bool, SceneError> {
+        let v = self.variable(vr)?;
+        if out.len() != v.len {
+            return Err(SceneError::WrongLength {
+                name: v.name.clone(),
+                expected: v.len,
+                got: out.len(),
+            });
+        }
+        if v.causality == Causality::Output {
+            return Ok(false);
+        }
+        if v.kind != VariableKind::Real {
+            return Err(SceneError::WrongKind {
+                name: v.name.clone(),
+                expected: "real",
+                actual: kind_name(v.kind),
+            });
+        }
+        out[0] = self.reals[vr as usize];
+        Ok(true)
+    }
+
     /// Current value of a real parameter or input.
     pub fn real(&self, vr: u32) -> f64 {
         self.reals[vr as usize]

@@ -27,6 +27,22 @@ pub struct CentralDifference {
     f: Vec<f64>,
 }
 
+/// The initial state of an explicit scheme: (t₀, u₀, v₀) with ü₀ = M_L⁻¹ (f(t₀) − K u₀ − C v₀);
+/// `f` is the scheme's load work vector.
+pub(crate) fn explicit_start(
+    s: &Structure,
+    t0: f64,
+    u0: &[f64],
+    v0: &[f64],
+    load: &mut Load<'_>,
+    f: &mut [f64],
+) -> Result<State, ModelError> {
+    let mut state = initial_state(s, t0, u0, v0)?;
+    load(t0, f);
+    lumped_acceleration(s, f, &state.u, &state.v, &mut state.a);
+    Ok(state)
+}
+
 /// ü = M_L⁻¹ (f − K u − C v).
 pub(crate) fn lumped_acceleration(s: &Structure, f: &[f64], u: &[f64], v: &[f64], a: &mut [f64]) {
     s.residual(f, u, v, a);
@@ -53,10 +69,8 @@ impl Integrator for CentralDifference {
         v0: &[f64],
         load: &mut Load<'_>,
     ) -> Result<(), ModelError> {
-        self.state = initial_state(s, t0, u0, v0)?;
-        load(t0, &mut self.f);
-        let State { u, v, a, .. } = &mut self.state;
-        lumped_acceleration(s, &self.f, u, v, a);
+        self.state = explicit_start(s, t0, u0, v0, load, &mut self.f)?;
+        let State { v, a, .. } = &self.state;
         self.v_half = v
             .iter()
             .zip(a.iter())

@@ -2,10 +2,8 @@
 //! form y = (u, u̇), ẏ = (u̇, M_L⁻¹ (f(t) − C u̇ − K u)) with the lumped mass. Explicit; stable
 //! for ω_max Δt ≤ 2√2 (undamped), reported by [`Integrator::critical_time_step`].
 
-use super::central_difference::lumped_acceleration;
-use super::integrator::{
-    check_dt, check_finite, initial_state, Integrator, IntegratorKind, Load, State,
-};
+use super::central_difference::{explicit_start, lumped_acceleration};
+use super::integrator::{check_dt, check_finite, Integrator, IntegratorKind, Load, State};
 use super::spectrum::max_omega_squared;
 use super::structure::Structure;
 use crate::error::ModelError;
@@ -52,10 +50,7 @@ impl Integrator for Rk4 {
         v0: &[f64],
         load: &mut Load<'_>,
     ) -> Result<(), ModelError> {
-        self.state = initial_state(s, t0, u0, v0)?;
-        load(t0, &mut self.f);
-        let State { u, v, a, .. } = &mut self.state;
-        lumped_acceleration(s, &self.f, u, v, a);
+        self.state = explicit_start(s, t0, u0, v0, load, &mut self.f)?;
         self.stale_acceleration = false;
         Ok(())
     }

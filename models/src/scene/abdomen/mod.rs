@@ -479,23 +479,7 @@ impl Scene for Abdomen {
     }
 
     fn get_real(&mut self, vr: u32, out: &mut [f64]) -> Result<(), SceneError> {
-        let v = self.values.variable(vr)?;
-        if out.len() != v.len {
-            return Err(SceneError::WrongLength {
-                name: v.name.clone(),
-                expected: v.len,
-                got: out.len(),
-            });
-        }
-        if vr < FIRST_OUTPUT {
-            if v.kind != super::VariableKind::Real {
-                return Err(SceneError::WrongKind {
-                    name: v.name.clone(),
-                    expected: "real",
-                    actual: "string",
-                });
-            }
-            out[0] = self.values.real(vr);
+        if self.values.read(vr, out)? {
             return Ok(());
         }
         let press = self.press(self.time);

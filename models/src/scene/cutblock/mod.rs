@@ -14,7 +14,7 @@ mod topology;
 use outputs::Outputs;
 use topology::{Geometry, Strategy, Support, Topology};
 
-use super::{Scene, SceneError, Start, Values, Variability, Variable};
+use super::{Scene, SceneError, Values, Variability, Variable};
 use crate::element::Elastic;
 
 /// Laser-profile stations: y = 0, 0.5, …, 90 mm in lab coordinates (the default block
@@ -214,28 +214,12 @@ impl Scene for CutBlock {
     }
 
     fn get_real(&mut self, vr: u32, out: &mut [f64]) -> Result<(), SceneError> {
-        let v = self.values.variable(vr)?;
-        if out.len() != v.len {
-            return Err(SceneError::WrongLength {
-                name: v.name.clone(),
-                expected: v.len,
-                got: out.len(),
-            });
-        }
-        if vr < FIRST_OUTPUT {
-            if let Start::String(_) = v.start {
-                return Err(SceneError::WrongKind {
-                    name: v.name.clone(),
-                    expected: "real",
-                    actual: "string",
-                });
-            }
-            out[0] = self.values.real(vr);
+        if self.values.read(vr, out)? {
             return Ok(());
         }
         let (Some(geometry), Some(topology)) = (&self.geometry, &self.topology) else {
             return Err(SceneError::NotSettable {
-                name: v.name.clone(),
+                name: self.values.variable(vr)?.name.clone(),
                 reason: "outputs exist only after initialization",
             });
         };
