@@ -70,6 +70,10 @@ pub trait Scene: Send {
     /// Advances from `t` to `t + h` with the current inputs.
     fn do_step(&mut self, t: f64, h: f64) -> Result<(), SceneError>;
 
+    /// Tells the scene where its resources (shipped configuration files) are; scenes that
+    /// read none ignore it.
+    fn set_resource_dir(&mut self, _dir: &std::path::Path) {}
+
     /// Looks a variable up by name.
     fn lookup(&self, name: &str) -> Result<u32, SceneError> {
         self.variables()

@@ -253,7 +253,8 @@ impl Default for Abdomen {
 
 impl Abdomen {
     /// A scene with the built-in defaults. Shipped configurations are looked up in the
-    /// repository's `experiments/pelvis` until [`Abdomen::set_resources`] says otherwise.
+    /// repository's `experiments/pelvis` until `Scene::set_resource_dir` points to a resources
+    /// folder (then `<resources>/pelvis`).
     pub fn new() -> Self {
         Self {
             values: Values::new(table()),
@@ -266,11 +267,6 @@ impl Abdomen {
             stiffness_changed: false,
             time: 0.0,
         }
-    }
-
-    /// Where shipped configurations are looked up (the FMU's resources folder).
-    pub fn set_resources(&mut self, dir: PathBuf) {
-        self.resources = dir;
     }
 
     /// Sets a real variable by name.
@@ -467,6 +463,10 @@ fn diaphragm_unit_load(mesh: &Mesh2d, bc: &Dirichlet) -> Result<Vec<f64>, SceneE
 impl Scene for Abdomen {
     fn variables(&self) -> &[Variable] {
         self.values.table()
+    }
+
+    fn set_resource_dir(&mut self, dir: &std::path::Path) {
+        self.resources = dir.join("pelvis");
     }
 
     fn set_real(&mut self, vr: u32, values: &[f64]) -> Result<(), SceneError> {

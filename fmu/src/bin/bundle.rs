@@ -1,0 +1,35 @@
+//! Writes abdomen-fmi2.fmu, abdomen-fmi3.fmu, cutblock-fmi2.fmu and cutblock-fmi3.fmu into
+//! `target/fmu/`.
+//!
+//! Run: `cargo run --release -p fmu --bin bundle` (cargo builds the shared library of the
+//! `fmu` crate alongside this binary; the bundler takes it from the same folder).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    let exe = std::env::current_exe().unwrap_or_default();
+    let dir = exe.parent().map(PathBuf::from).unwrap_or_default();
+    let library = dir.join(format!(
+        "{}fmu{}",
+        std::env::consts::DLL_PREFIX,
+        std::env::consts::DLL_SUFFIX
+    ));
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    let pelvis = root.join("experiments/pelvis");
+    let out = dir
+        .parent()
+        .map_or_else(|| PathBuf::from("target/fmu"), |target| target.join("fmu"));
+    match fmu::bundle::write_all(&library, &pelvis, &out) {
+        Ok(paths) => {
+            for p in paths {
+                println!("wrote {}", p.display());
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("bundle: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,1 @@
+//! FMI 3.0 co-simulation ABI (built next).

@@ -1,0 +1,422 @@
+//! The model-independent FMI instance: the state machine that checks every call against the
+//! states in which the standard allows it, value-reference mapping for FMI 2 (indexed
+//! scalars) and FMI 3 (arrays), error reporting through the logger, and the scene behind it.
+//! The ABI files only convert C arguments and call into this.
+
+use std::ffi::CString;
+use std::path::PathBuf;
+
+use models::scene::{Causality, Scene, SceneError, Variable, VariableKind};
+
+use crate::model::Model;
+
+/// Call status, shared by FMI 2 and FMI 3 (same codes 0–4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Status {
+    Ok = 0,
+    Warning = 1,
+    Discard = 2,
+    Error = 3,
+    Fatal = 4,
+}
+
+/// Where the instance is in its life cycle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    Instantiated,
+    Initialization,
+    Step,
+    Terminated,
+    /// A step or the initialization failed: only get, reset and free are allowed.
+    Error,
+}
+
+/// The calls the state machine distinguishes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Call {
+    SetupExperiment,
+    EnterInitialization,
+    ExitInitialization,
+    Set,
+    Get,
+    DoStep,
+    Terminate,
+    Reset,
+    SetDebugLogging,
+}
+
+impl Call {
+    /// Phases in which the call is allowed (FMI 2.0 §4.2.4 state machine; FMI 3.0 §4.2
+    /// co-simulation without event mode has the same structure).
+    fn allowed(self, phase: Phase) -> bool {
+        use Phase::*;
+        match self {
+            Call::SetupExperiment | Call::EnterInitialization => phase == Instantiated,
+            Call::ExitInitialization => phase == Initialization,
+            Call::Set => matches!(phase, Instantiated | Initialization | Step),
+            Call::Get => matches!(phase, Initialization | Step | Terminated | Error),
+            Call::DoStep => phase == Step,
+            Call::Terminate => matches!(phase, Step | Error),
+            Call::Reset | Call::SetDebugLogging => true,
+        }
+    }
+}
+
+/// The logger: (status, category, message).
+pub type Log = Box<dyn Fn(Status, &str, &str) + Send>;
+
+/// One FMI 2 scalar: a scalar variable, or element `index` of an array variable.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scalar {
+    pub name: String,
+    pub scene_vr: u32,
+    pub index: usize,
+}
+
+/// The FMI 2 scalars of a variable table, in value-reference order.
+pub fn fmi2_scalars(vars: &[Variable]) -> Vec<Scalar> {
+    vars.iter()
+        .flat_map(|v| {
+            (0..v.len).map(move |i| Scalar {
+                name: if v.len == 1 {
+                    v.name.clone()
+                } else {
+                    format!("{}[{i}]", v.name)
+                },
+                scene_vr: v.vr,
+                index: i,
+            })
+        })
+        .collect()
+}
+
+/// FMI 3 value reference of the independent variable `time`.
+pub fn time_vr(vars: &[Variable]) -> u32 {
+    vars.len() as u32
+}
+
+/// How value references are laid out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Layout {
+    /// FMI 2: one value per reference; arrays as indexed scalars.
+    Scalars,
+    /// FMI 3: a reference per variable, `len` values each; plus `time`.
+    Arrays,
+}
+
+/// An FMI instance.
+pub struct Instance {
+    pub name: String,
+    model: &'static Model,
+    scene: Box<dyn Scene>,
+    phase: Phase,
+    time: f64,
+    resources: Option<PathBuf>,
+    log: Log,
+    log_calls: bool,
+    scalars: Vec<Scalar>,
+    buffer: Vec<f64>,
+    strings: Vec<CString>,
+}
+
+impl Instance {
+    /// Creates the scene named by `token`; `resources` is the resource folder if known.
+    pub fn new(
+        token: &str,
+        name: &str,
+        resources: Option<PathBuf>,
+        log: Log,
+        log_calls: bool,
+    ) -> Result<Self, String> {
+        let model = Model::by_token(token).ok_or_else(|| {
+            format!("instantiation token / GUID `{token}` matches no model in this binary (is the modelDescription.xml from another build?)")
+        })?;
+        let mut scene = (model.create)();
+        if let Some(dir) = &resources {
+            scene.set_resource_dir(dir);
+        }
+        Ok(Self {
+            name: name.to_string(),
+            scalars: fmi2_scalars(scene.variables()),
+            model,
+            scene,
+            phase: Phase::Instantiated,
+            time: 0.0,
+            resources,
+            log,
+            log_calls,
+            buffer: Vec::new(),
+            strings: Vec::new(),
+        })
+    }
+
+    /// After a caught panic: only get, reset and free remain allowed.
+    pub fn poison(&mut self) {
+        self.phase = Phase::Error;
+    }
+
+    pub fn phase(&self) -> Phase {
+        self.phase
+    }
+
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Logs an error (always) and returns `status`.
+    pub fn error(&self, status: Status, message: &str) -> Status {
+        (self.log)(status, "logStatusError", message);
+        status
+    }
+
+    /// Turns call logging on or off (category `logCalls`). Unknown categories are an error.
+    pub fn set_debug_logging(&mut self, on: bool, categories: &[String]) -> Status {
+        for c in categories {
+            if c != "logCalls" && c != "logStatusError" {
+                return self.error(
+                    Status::Error,
+                    &format!("unknown log category `{c}` (have logStatusError, logCalls)"),
+                );
+            }
+        }
+        self.log_calls =
+            on && (categories.is_empty() || categories.iter().any(|c| c == "logCalls"));
+        Status::Ok
+    }
+
+    /// Checks that `call` is allowed now; logs and returns Error otherwise.
+    pub fn check(&self, call: Call, function: &str) -> Result<(), Status> {
+        if self.log_calls {
+            (self.log)(
+                Status::Ok,
+                "logCalls",
+                &format!("{function} (phase {:?})", self.phase),
+            );
+        }
+        if call.allowed(self.phase) {
+            Ok(())
+        } else {
+            Err(self.error(
+                Status::Error,
+                &format!("{function} is not allowed in phase {:?}", self.phase),
+            ))
+        }
+    }
+
+    fn fail(&self, e: &SceneError) -> Status {
+        self.error(Status::Error, &e.to_string())
+    }
+
+    pub fn setup_experiment(&mut self, start: f64) -> Status {
+        if !start.is_finite() {
+            return self.error(Status::Error, &format!("start time {start} is not finite"));
+        }
+        self.time = start;
+        Status::Ok
+    }
+
+    pub fn enter_initialization(&mut self) -> Status {
+        self.phase = Phase::Initialization;
+        Status::Ok
+    }
+
+    /// Builds the scene (mesh, factorization) and solves the initial state.
+    pub fn exit_initialization(&mut self) -> Status {
+        match self.scene.initialize() {
+            Ok(()) => {
+                self.phase = Phase::Step;
+                Status::Ok
+            }
+            Err(e) => {
+                self.phase = Phase::Error;
+                self.fail(&e)
+            }
+        }
+    }
+
+    /// Advances to exactly `current + h`.
+    pub fn do_step(&mut self, current: f64, h: f64) -> Status {
+        if !(h.is_finite() && h > 0.0) {
+            return self.error(
+                Status::Error,
+                &format!("communication step size {h} must be finite and > 0"),
+            );
+        }
+        let tolerance = 1e-9 * current.abs().max(h).max(1.0);
+        if (current - self.time).abs() > tolerance {
+            return self.error(
+                Status::Error,
+                &format!(
+                    "currentCommunicationPoint {current} does not match the instance time {}",
+                    self.time
+                ),
+            );
+        }
+        match self.scene.do_step(current, h) {
+            Ok(()) => {
+                self.time = current + h;
+                Status::Ok
+            }
+            Err(e) => {
+                self.phase = Phase::Error;
+                self.fail(&e)
+            }
+        }
+    }
+
+    pub fn terminate(&mut self) -> Status {
+        self.phase = Phase::Terminated;
+        Status::Ok
+    }
+
+    /// Back to the state after instantiation: a fresh scene with start values.
+    pub fn reset(&mut self) -> Status {
+        self.scene = (self.model.create)();
+        if let Some(dir) = &self.resources {
+            self.scene.set_resource_dir(dir);
+        }
+        self.phase = Phase::Instantiated;
+        self.time = 0.0;
+        Status::Ok
+    }
+
+    fn variable(&self, vr: u32) -> Option<&Variable> {
+        self.scene.variables().get(vr as usize)
+    }
+
+    /// Resolves references to (scene vr, element index, value count) per reference.
+    fn resolve(&self, layout: Layout, vrs: &[u32]) -> Result<Vec<(u32, usize, usize)>, String> {
+        vrs.iter()
+            .map(|&vr| match layout {
+                Layout::Scalars => self
+                    .scalars
+                    .get(vr as usize)
+                    .map(|s| (s.scene_vr, s.index, 1))
+                    .ok_or_else(|| format!("unknown value reference {vr}")),
+                Layout::Arrays if vr == time_vr(self.scene.variables()) => Ok((vr, 0, 1)),
+                Layout::Arrays => self
+                    .variable(vr)
+                    .map(|v| (vr, 0, v.len))
+                    .ok_or_else(|| format!("unknown value reference {vr}")),
+            })
+            .collect()
+    }
+
+    fn count(&self, refs: &[(u32, usize, usize)], n_values: usize) -> Result<(), Status> {
+        let needed: usize = refs.iter().map(|r| r.2).sum();
+        if needed != n_values {
+            return Err(self.error(
+                Status::Error,
+                &format!("{n_values} values given for {needed} expected"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Sets real values.
+    pub fn set_reals(&mut self, layout: Layout, vrs: &[u32], values: &[f64]) -> Status {
+        let refs = match self.resolve(layout, vrs) {
+            Ok(r) => r,
+            Err(m) => return self.error(Status::Error, &m),
+        };
+        if let Err(s) = self.count(&refs, values.len()) {
+            return s;
+        }
+        let mut at = 0;
+        for (vr, index, n) in refs {
+            if vr == time_vr(self.scene.variables()) {
+                return self.error(
+                    Status::Error,
+                    "the independent variable `time` cannot be set",
+                );
+            }
+            let result = if index > 0 || self.variable(vr).is_some_and(|v| v.len != n) {
+                Err(SceneError::NotSettable {
+                    name: self
+                        .scalars
+                        .iter()
+                        .find(|s| s.scene_vr == vr)
+                        .map_or(String::new(), |s| s.name.clone()),
+                    reason: "array elements are outputs",
+                })
+            } else {
+                self.scene.set_real(vr, &values[at..at + n])
+            };
+            if let Err(e) = result {
+                return self.fail(&e);
+            }
+            at += n;
+        }
+        Status::Ok
+    }
+
+    /// Gets real values (outputs are computed on the first request after a step).
+    pub fn get_reals(&mut self, layout: Layout, vrs: &[u32], values: &mut [f64]) -> Status {
+        let refs = match self.resolve(layout, vrs) {
+            Ok(r) => r,
+            Err(m) => return self.error(Status::Error, &m),
+        };
+        if let Err(s) = self.count(&refs, values.len()) {
+            return s;
+        }
+        let mut at = 0;
+        for (vr, index, n) in refs {
+            if vr == time_vr(self.scene.variables()) {
+                values[at] = self.time;
+                at += 1;
+                continue;
+            }
+            let Some(len) = self.variable(vr).map(|v| v.len) else {
+                return self.error(Status::Error, &format!("unknown value reference {vr}"));
+            };
+            if self.phase == Phase::Initialization
+                && self
+                    .variable(vr)
+                    .is_some_and(|v| v.causality == Causality::Output)
+            {
+                return self.error(Status::Error, "outputs are available after initialization (fmi2ExitInitializationMode / fmi3ExitInitializationMode)");
+            }
+            self.buffer.resize(len, 0.0);
+            if let Err(e) = self.scene.get_real(vr, &mut self.buffer) {
+                return self.fail(&e);
+            }
+            values[at..at + n].copy_from_slice(&self.buffer[index..index + n]);
+            at += n;
+        }
+        Status::Ok
+    }
+
+    /// Sets string parameters.
+    pub fn set_strings(&mut self, layout: Layout, vrs: &[u32], values: &[String]) -> Status {
+        let refs = match self.resolve(layout, vrs) {
+            Ok(r) => r,
+            Err(m) => return self.error(Status::Error, &m),
+        };
+        for ((vr, _, _), value) in refs.into_iter().zip(values) {
+            if let Err(e) = self.scene.set_string(vr, value) {
+                return self.fail(&e);
+            }
+        }
+        Status::Ok
+    }
+
+    /// Gets string variables; the returned C strings stay valid until the next call.
+    pub fn get_strings(&mut self, layout: Layout, vrs: &[u32]) -> Result<&[CString], Status> {
+        let refs = self
+            .resolve(layout, vrs)
+            .map_err(|m| self.error(Status::Error, &m))?;
+        self.strings.clear();
+        for (vr, _, _) in refs {
+            let kind = self.variable(vr).map(|v| v.kind);
+            if kind != Some(VariableKind::String) {
+                return Err(self.error(
+                    Status::Error,
+                    &format!("value reference {vr} is not a string"),
+                ));
+            }
+            let s = self.scene.get_string(vr).map_err(|e| self.fail(&e))?;
+            self.strings.push(CString::new(s).unwrap_or_default());
+        }
+        Ok(&self.strings)
+    }
+}

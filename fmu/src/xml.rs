@@ -1,0 +1,248 @@
+//! `modelDescription.xml` for FMI 2.0 and FMI 3.0, generated from a scene's variable table —
+//! the same table the instance uses at run time, so the two cannot drift apart.
+
+use std::fmt::Write;
+
+use models::scene::{Causality, Start, Variability, Variable, VariableKind};
+
+use crate::instance::{fmi2_scalars, time_vr};
+use crate::model::Model;
+
+/// Base-unit exponents and factor of every unit the scenes use (SI base: kg, m, s).
+fn base_unit(unit: &str) -> Option<&'static str> {
+    Some(match unit {
+        "mm" => r#"m="1" factor="0.001""#,
+        "mm2" => r#"m="2" factor="1e-06""#,
+        "MPa" => r#"kg="1" m="-1" s="-2" factor="1000000""#,
+        "N" => r#"kg="1" m="1" s="-2""#,
+        "N/mm" => r#"kg="1" s="-2" factor="1000""#,
+        "Hz" | "1/s" => r#"s="-1""#,
+        "s" => r#"s="1""#,
+        "t/mm3" => r#"kg="1" m="-3" factor="1e+12""#,
+        _ => return None,
+    })
+}
+
+/// Escapes text for an XML attribute.
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// A number as XML wants it (shortest round-trip form).
+fn num(x: f64) -> String {
+    format!("{x:?}")
+}
+
+fn units(vars: &[Variable]) -> String {
+    let mut names: Vec<&str> = vars
+        .iter()
+        .map(|v| v.unit)
+        .filter(|u| base_unit(u).is_some())
+        .collect();
+    names.sort_unstable();
+    names.dedup();
+    let mut s = String::from("  <UnitDefinitions>\n");
+    for u in names {
+        let _ = writeln!(
+            s,
+            r#"    <Unit name="{}"><BaseUnit {}/></Unit>"#,
+            esc(u),
+            base_unit(u).unwrap_or_default()
+        );
+    }
+    s + "  </UnitDefinitions>\n"
+}
+
+/// unit, min and max attributes of a real variable.
+fn real_attributes(v: &Variable) -> String {
+    let mut a = String::new();
+    if base_unit(v.unit).is_some() {
+        let _ = write!(a, r#" unit="{}""#, esc(v.unit));
+    }
+    if v.causality != Causality::Output {
+        if v.min.is_finite() {
+            let _ = write!(a, r#" min="{}""#, num(v.min));
+        }
+        if v.max.is_finite() {
+            let _ = write!(a, r#" max="{}""#, num(v.max));
+        }
+    }
+    a
+}
+
+fn causality(v: &Variable) -> &'static str {
+    match v.causality {
+        Causality::Parameter => "parameter",
+        Causality::Input => "input",
+        Causality::Output => "output",
+    }
+}
+
+fn variability(v: &Variable) -> &'static str {
+    match v.variability {
+        Variability::Fixed => "fixed",
+        Variability::Tunable => "tunable",
+        Variability::Continuous => "continuous",
+    }
+}
+
+/// FMI 2 `initial` attribute (none for inputs).
+fn initial(v: &Variable) -> &'static str {
+    match v.causality {
+        Causality::Parameter => r#" initial="exact""#,
+        Causality::Input => "",
+        Causality::Output => r#" initial="calculated""#,
+    }
+}
+
+const LOG_CATEGORIES: &str = "  <LogCategories>\n    <Category name=\"logStatusError\" description=\"errors, with the variable or cause\"/>\n    <Category name=\"logCalls\" description=\"every FMI call\"/>\n  </LogCategories>\n";
+
+fn header(model: &Model, version: &str, token_attribute: &str) -> String {
+    format!(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<fmiModelDescription fmiVersion=\"{version}\" modelName=\"{id}\" {token_attribute}=\"{token}\" description=\"{desc}\" generationTool=\"tissuefmu {tool}\" variableNamingConvention=\"structured\">\n",
+        id = model.identifier,
+        token = model.token(),
+        desc = esc(model.description),
+        tool = env!("CARGO_PKG_VERSION"),
+    )
+}
+
+fn default_experiment(model: &Model) -> String {
+    format!(
+        "  <DefaultExperiment startTime=\"0.0\" stopTime=\"{}\" stepSize=\"{}\"/>\n",
+        num(model.stop_time),
+        num(model.step_size)
+    )
+}
+
+/// The FMI 2.0 co-simulation model description. Arrays appear as indexed scalars
+/// `name[i]`, numbered consecutively.
+pub fn fmi2(model: &Model) -> String {
+    let scene = (model.create)();
+    let vars = scene.variables();
+    let mut s = header(model, "2.0", "guid");
+    let _ = writeln!(
+        s,
+        r#"  <CoSimulation modelIdentifier="{}" canHandleVariableCommunicationStepSize="true" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="false" canSerializeFMUstate="false"/>"#,
+        model.identifier
+    );
+    s += &units(vars);
+    s += LOG_CATEGORIES;
+    s += &default_experiment(model);
+    s += "  <ModelVariables>\n";
+    let scalars = fmi2_scalars(vars);
+    let mut outputs = Vec::new();
+    for (i, sc) in scalars.iter().enumerate() {
+        let v = &vars[sc.scene_vr as usize];
+        let _ = write!(
+            s,
+            r#"    <ScalarVariable name="{}" valueReference="{i}" causality="{}" variability="{}"{} description="{}">"#,
+            esc(&sc.name),
+            causality(v),
+            variability(v),
+            initial(v),
+            esc(&v.description)
+        );
+        match (&v.kind, &v.start) {
+            (VariableKind::String, Start::String(x)) => {
+                let _ = write!(s, r#"<String start="{}"/>"#, esc(x));
+            }
+            (VariableKind::Real, Start::Real(x)) => {
+                let _ = write!(s, r#"<Real start="{}"{}/>"#, num(*x), real_attributes(v));
+            }
+            _ => {
+                let _ = write!(s, r#"<Real{}/>"#, real_attributes(v));
+            }
+        }
+        s += "</ScalarVariable>\n";
+        if v.causality == Causality::Output {
+            outputs.push(i + 1);
+        }
+    }
+    s += "  </ModelVariables>\n  <ModelStructure>\n    <Outputs>\n";
+    for i in &outputs {
+        let _ = writeln!(s, r#"      <Unknown index="{i}"/>"#);
+    }
+    s += "    </Outputs>\n    <InitialUnknowns>\n";
+    for i in &outputs {
+        let _ = writeln!(s, r#"      <Unknown index="{i}"/>"#);
+    }
+    s + "    </InitialUnknowns>\n  </ModelStructure>\n</fmiModelDescription>\n"
+}
+
+/// The FMI 3.0 co-simulation model description. Value references are the scene's; arrays
+/// are arrays (`<Dimension start="n"/>`); `time` is the independent variable.
+pub fn fmi3(model: &Model) -> String {
+    let scene = (model.create)();
+    let vars = scene.variables();
+    let mut s = header(model, "3.0", "instantiationToken");
+    let _ = writeln!(
+        s,
+        r#"  <CoSimulation modelIdentifier="{}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUState="false" canSerializeFMUState="false" hasEventMode="false" providesIntermediateUpdate="false"/>"#,
+        model.identifier
+    );
+    s += &units(vars);
+    s += LOG_CATEGORIES;
+    s += &default_experiment(model);
+    s += "  <ModelVariables>\n";
+    let _ = writeln!(
+        s,
+        r#"    <Float64 name="time" valueReference="{}" causality="independent" variability="continuous" unit="s" description="simulation time"/>"#,
+        time_vr(vars)
+    );
+    for v in vars {
+        let common = format!(
+            r#"name="{}" valueReference="{}" causality="{}" variability="{}"{} description="{}""#,
+            esc(&v.name),
+            v.vr,
+            causality(v),
+            variability(v),
+            initial(v),
+            esc(&v.description)
+        );
+        match (&v.kind, &v.start) {
+            (VariableKind::String, Start::String(x)) => {
+                let _ = writeln!(
+                    s,
+                    r#"    <String {common}><Start value="{}"/></String>"#,
+                    esc(x)
+                );
+            }
+            (VariableKind::Real, Start::Real(x)) => {
+                let _ = writeln!(
+                    s,
+                    r#"    <Float64 {common} start="{}"{}/>"#,
+                    num(*x),
+                    real_attributes(v)
+                );
+            }
+            _ if v.len > 1 => {
+                let _ = writeln!(
+                    s,
+                    r#"    <Float64 {common}{}><Dimension start="{}"/></Float64>"#,
+                    real_attributes(v),
+                    v.len
+                );
+            }
+            _ => {
+                let _ = writeln!(s, r#"    <Float64 {common}{}/>"#, real_attributes(v));
+            }
+        }
+    }
+    s += "  </ModelVariables>\n  <ModelStructure>\n";
+    let outputs: Vec<u32> = vars
+        .iter()
+        .filter(|v| v.causality == Causality::Output)
+        .map(|v| v.vr)
+        .collect();
+    for vr in &outputs {
+        let _ = writeln!(s, r#"    <Output valueReference="{vr}"/>"#);
+    }
+    for vr in &outputs {
+        let _ = writeln!(s, r#"    <InitialUnknown valueReference="{vr}"/>"#);
+    }
+    s + "  </ModelStructure>\n</fmiModelDescription>\n"
+}

@@ -1,0 +1,334 @@
+//! The FMI 2.0 functions called as an importer calls them (in process, through the C ABI):
+//! state machine, bad input, bit-equality with the in-process scene, exact time landing,
+//! reset, repeated instantiation, concurrency, and a random-call fuzz.
+
+use std::ffi::{c_char, CString};
+use std::ptr::{null, null_mut};
+
+use fmu::fmi2::*;
+use fmu::model::MODELS;
+use models::scene::cutblock::CutBlock;
+use models::scene::Scene;
+
+const OK: fmi2Status = 0;
+const ERROR: fmi2Status = 3;
+
+fn cutblock_guid() -> CString {
+    CString::new(MODELS[1].token()).unwrap()
+}
+
+fn instantiate() -> fmi2Component {
+    let name = CString::new("test").unwrap();
+    let guid = cutblock_guid();
+    let c = unsafe { fmi2Instantiate(name.as_ptr(), 1, guid.as_ptr(), null(), null(), 0, 0) };
+    assert!(!c.is_null());
+    c
+}
+
+/// FMI 2 value reference of a scalar by name (the layout the model description uses).
+fn vr(name: &str) -> fmi2ValueReference {
+    let scene = CutBlock::new();
+    fmu::instance::fmi2_scalars(scene.variables())
+        .iter()
+        .position(|s| s.name == name)
+        .unwrap() as u32
+}
+
+fn set(c: fmi2Component, name: &str, x: f64) -> fmi2Status {
+    unsafe { fmi2SetReal(c, &vr(name), 1, &x) }
+}
+
+fn get(c: fmi2Component, name: &str) -> f64 {
+    let mut x = f64::NAN;
+    assert_eq!(
+        unsafe { fmi2GetReal(c, &vr(name), 1, &mut x) },
+        OK,
+        "{name}"
+    );
+    x
+}
+
+/// A small block so that each step costs microseconds.
+const SMALL: [(&str, f64); 3] = [("cells_x", 2.0), ("cells_y", 4.0), ("cells_z", 3.0)];
+
+fn initialized() -> fmi2Component {
+    let c = instantiate();
+    unsafe {
+        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), OK);
+        for (n, v) in SMALL {
+            assert_eq!(set(c, n, v), OK);
+        }
+        assert_eq!(fmi2EnterInitializationMode(c), OK);
+        assert_eq!(fmi2ExitInitializationMode(c), OK);
+    }
+    c
+}
+
+#[test]
+fn outputs_equal_the_in_process_scene_to_the_last_bit() {
+    let c = initialized();
+    let mut scene = CutBlock::new();
+    for (n, v) in SMALL {
+        scene.set(n, v).unwrap();
+    }
+    scene.initialize().unwrap();
+    let names = [
+        "reaction_force",
+        "cut_opening",
+        "bottom_lift",
+        "x_contraction",
+        "max_von_mises",
+        "profile_x50[90]",
+    ];
+    for (k, (pull, x)) in [(2.0, 0.0), (5.0, 50.0), (10.0, 100.0)]
+        .into_iter()
+        .enumerate()
+    {
+        assert_eq!(set(c, "pull", pull), OK);
+        assert_eq!(set(c, "scalpel_x", x), OK);
+        assert_eq!(unsafe { fmi2DoStep(c, k as f64, 1.0, 1) }, OK);
+        scene.set("pull", pull).unwrap();
+        scene.set("scalpel_x", x).unwrap();
+        scene.do_step(k as f64, 1.0).unwrap();
+        for name in names {
+            let expect = if let Some(base) = name.strip_suffix("[90]") {
+                let mut p = vec![0.0; 181];
+                scene.get_real(scene.lookup(base).unwrap(), &mut p).unwrap();
+                p[90]
+            } else {
+                scene.get(name).unwrap()
+            };
+            assert_eq!(get(c, name).to_bits(), expect.to_bits(), "{name}");
+        }
+    }
+    unsafe { fmi2FreeInstance(c) };
+}
+
+#[test]
+fn calls_in_the_wrong_state_and_bad_values_are_errors() {
+    let c = instantiate();
+    unsafe {
+        assert_eq!(fmi2DoStep(c, 0.0, 1.0, 1), ERROR);
+        assert_eq!(fmi2ExitInitializationMode(c), ERROR);
+        let mut x = 0.0;
+        assert_eq!(fmi2GetReal(c, &vr("reaction_force"), 1, &mut x), ERROR);
+        assert_eq!(set(c, "E", 0.0), ERROR);
+        assert_eq!(set(c, "nu", 0.5), ERROR);
+        assert_eq!(set(c, "E", f64::NAN), ERROR);
+        assert_eq!(fmi2SetReal(c, &100_000, 1, &1.0), ERROR);
+        assert_eq!(fmi2SetReal(c, null(), 1, null()), ERROR);
+        assert_eq!(
+            fmi2GetInteger(c, null(), 0, null_mut()),
+            ERROR,
+            "no get before initialization mode"
+        );
+        assert_eq!(fmi2DoStep(null_mut(), 0.0, 1.0, 1), ERROR);
+        // Still usable after refused values.
+        assert_eq!(fmi2EnterInitializationMode(c), OK);
+        assert_eq!(fmi2ExitInitializationMode(c), OK);
+        // Fixed parameters are frozen now; tunable ones and inputs are not.
+        assert_eq!(set(c, "cells_x", 3.0), ERROR);
+        assert_eq!(set(c, "E", 0.05), OK);
+        assert_eq!(fmi2DoStep(c, 0.0, -1.0, 1), ERROR);
+        assert_eq!(
+            fmi2DoStep(c, 5.0, 1.0, 1),
+            ERROR,
+            "wrong communication point"
+        );
+        assert_eq!(fmi2DoStep(c, 0.0, 1.0, 1), OK);
+        assert_eq!(fmi2GetInteger(c, &0, 1, null_mut()), ERROR);
+        assert_eq!(fmi2GetInteger(c, null(), 0, null_mut()), OK);
+        fmi2FreeInstance(c);
+    }
+    let bad = CString::new("{00000000-0000-0000-0000-000000000000}").unwrap();
+    let c = unsafe { fmi2Instantiate(c"x".as_ptr(), 1, bad.as_ptr(), null(), null(), 0, 0) };
+    assert!(c.is_null());
+    let c = unsafe {
+        fmi2Instantiate(
+            c"x".as_ptr(),
+            0,
+            cutblock_guid().as_ptr(),
+            null(),
+            null(),
+            0,
+            0,
+        )
+    };
+    assert!(c.is_null(), "model exchange is refused");
+}
+
+#[test]
+fn a_scene_error_in_a_step_is_an_error_status_and_reset_recovers() {
+    let c = instantiate();
+    unsafe {
+        for (n, v) in SMALL {
+            set(c, n, v);
+        }
+        assert_eq!(set(c, "cut_depth", 17.0), OK);
+        fmi2EnterInitializationMode(c);
+        assert_eq!(fmi2ExitInitializationMode(c), OK);
+        set(c, "scalpel_x", 100.0);
+        assert_eq!(
+            fmi2DoStep(c, 0.0, 1.0, 1),
+            ERROR,
+            "a cut that separates the block"
+        );
+        assert_eq!(
+            fmi2DoStep(c, 1.0, 1.0, 1),
+            ERROR,
+            "no further steps after an error"
+        );
+        assert_eq!(fmi2Reset(c), OK);
+        for (n, v) in SMALL {
+            assert_eq!(set(c, n, v), OK);
+        }
+        fmi2EnterInitializationMode(c);
+        assert_eq!(fmi2ExitInitializationMode(c), OK);
+        set(c, "pull", 3.0);
+        assert_eq!(fmi2DoStep(c, 0.0, 1.0, 1), OK);
+        fmi2FreeInstance(c);
+    }
+}
+
+#[test]
+fn reset_returns_to_the_start_values() {
+    let c = initialized();
+    let first = {
+        set(c, "pull", 4.0);
+        unsafe { fmi2DoStep(c, 0.0, 0.5, 1) };
+        get(c, "reaction_force")
+    };
+    unsafe {
+        assert_eq!(fmi2Reset(c), OK);
+        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), OK);
+    }
+    unsafe { fmi2EnterInitializationMode(c) };
+    assert_eq!(get(c, "cells_x"), 6.0, "start value after reset");
+    assert_eq!(get(c, "pull"), 0.0);
+    for (n, v) in SMALL {
+        set(c, n, v);
+    }
+    unsafe { fmi2ExitInitializationMode(c) };
+    set(c, "pull", 4.0);
+    unsafe { fmi2DoStep(c, 0.0, 0.5, 1) };
+    assert_eq!(get(c, "reaction_force").to_bits(), first.to_bits());
+    unsafe { fmi2FreeInstance(c) };
+}
+
+#[test]
+fn a_million_steps_land_exactly_on_the_communication_points() {
+    let c = initialized();
+    let h = 1e-3;
+    let mut t = 0.0;
+    for _ in 0..1_000_000 {
+        assert_eq!(unsafe { fmi2DoStep(c, t, h, 1) }, OK);
+        t += h; // the importer's clock
+    }
+    let mut last = 0.0;
+    unsafe { fmi2GetRealStatus(c, 2, &mut last) };
+    assert_eq!(last, t, "instance time equals the importer's sum exactly");
+    unsafe { fmi2FreeInstance(c) };
+}
+
+fn resident_kib() -> usize {
+    let statm = std::fs::read_to_string("/proc/self/statm").unwrap();
+    let pages: usize = statm.split_whitespace().nth(1).unwrap().parse().unwrap();
+    pages * 4
+}
+
+#[test]
+fn a_thousand_instantiate_run_free_cycles_do_not_grow_memory() {
+    let cycle = || {
+        let c = initialized();
+        set(c, "pull", 1.0);
+        unsafe {
+            fmi2DoStep(c, 0.0, 1.0, 1);
+            fmi2Terminate(c);
+            fmi2FreeInstance(c);
+        }
+    };
+    for _ in 0..100 {
+        cycle();
+    }
+    let before = resident_kib();
+    for _ in 0..1000 {
+        cycle();
+    }
+    let growth = resident_kib().saturating_sub(before);
+    println!("resident memory growth over 1000 cycles: {growth} KiB");
+    assert!(growth < 4096, "{growth} KiB");
+}
+
+#[test]
+fn two_instances_on_two_threads_match_single_runs() {
+    let run = |pull: f64| -> Vec<u64> {
+        let c = initialized();
+        let mut out = Vec::new();
+        for k in 0..20 {
+            set(c, "pull", pull * k as f64 / 20.0);
+            set(c, "scalpel_x", 5.0 * k as f64);
+            unsafe { fmi2DoStep(c, k as f64, 1.0, 1) };
+            out.push(get(c, "reaction_force").to_bits());
+        }
+        unsafe { fmi2FreeInstance(c) };
+        out
+    };
+    let alone = (run(10.0), run(6.0));
+    let a = std::thread::spawn(move || run(10.0));
+    let b = std::thread::spawn(move || run(6.0));
+    assert_eq!((a.join().unwrap(), b.join().unwrap()), alone);
+}
+
+#[test]
+fn random_call_sequences_never_crash() {
+    // A deterministic xorshift stream drives calls with random arguments.
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    let n_scalars = fmu::instance::fmi2_scalars(CutBlock::new().variables()).len() as u64;
+    let mut c = instantiate();
+    for _ in 0..4000 {
+        let r = next();
+        let vr = (r >> 8) as u32 % (n_scalars as u32 + 3);
+        let x = match r % 7 {
+            0 => f64::NAN,
+            1 => -1.0,
+            2 => 1e300,
+            _ => ((r >> 20) % 200) as f64 / 2.0,
+        };
+        let mut out = 0.0;
+        let mut s: *const c_char = null();
+        let status = unsafe {
+            match (r >> 4) % 12 {
+                0 => fmi2SetReal(c, &vr, 1, &x),
+                1 => fmi2GetReal(c, &vr, 1, &mut out),
+                2 => fmi2EnterInitializationMode(c),
+                3 => fmi2ExitInitializationMode(c),
+                4 => fmi2DoStep(c, x, 1.0, 1),
+                5 => fmi2Terminate(c),
+                6 => fmi2Reset(c),
+                7 => fmi2GetString(c, &vr, 1, &mut s),
+                8 => fmi2SetString(c, &vr, 1, &c"delete".as_ptr()),
+                9 => fmi2SetupExperiment(c, 0, 0.0, x, 0, 0.0),
+                10 => {
+                    // Keep meshes small so the fuzz stays fast.
+                    for (n, v) in SMALL {
+                        set(c, n, v);
+                    }
+                    OK
+                }
+                _ => {
+                    fmi2FreeInstance(c);
+                    c = instantiate();
+                    OK
+                }
+            }
+        };
+        assert!((0..=4).contains(&status), "status {status}");
+    }
+    unsafe { fmi2FreeInstance(c) };
+}
