@@ -36,10 +36,12 @@ fn num(x: f64) -> String {
     format!("{x:?}")
 }
 
-fn units(vars: &[Variable]) -> String {
+/// Unit definitions for every unit the variables use, plus `extra` ones.
+fn units(vars: &[Variable], extra: &[&'static str]) -> String {
     let mut names: Vec<&str> = vars
         .iter()
         .map(|v| v.unit)
+        .chain(extra.iter().copied())
         .filter(|u| base_unit(u).is_some())
         .collect();
     names.sort_unstable();
@@ -129,7 +131,7 @@ pub fn fmi2(model: &Model) -> String {
         r#"  <CoSimulation modelIdentifier="{}" canHandleVariableCommunicationStepSize="true" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="false" canSerializeFMUstate="false"/>"#,
         model.identifier
     );
-    s += &units(vars);
+    s += &units(vars, &[]);
     s += LOG_CATEGORIES;
     s += &default_experiment(model);
     s += "  <ModelVariables>\n";
@@ -184,7 +186,7 @@ pub fn fmi3(model: &Model) -> String {
         r#"  <CoSimulation modelIdentifier="{}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUState="false" canSerializeFMUState="false" hasEventMode="false" providesIntermediateUpdate="false"/>"#,
         model.identifier
     );
-    s += &units(vars);
+    s += &units(vars, &["s"]); // the unit of `time`
     s += LOG_CATEGORIES;
     s += &default_experiment(model);
     s += "  <ModelVariables>\n";

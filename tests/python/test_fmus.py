@@ -1,0 +1,174 @@
+"""The packaged FMUs as users run them: in fmpy (FMI 2.0 and 3.0), against the in-process
+scenes (the `reference` binary), with parameter changes mid-run and bad input."""
+
+import csv
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fmpy import read_model_description, simulate_fmu
+from fmpy.fmi2 import FMU2Slave
+from fmpy.fmi3 import FMU3Slave
+from fmpy.validation import validate_fmu
+from fmpy import extract
+
+ROOT = Path(__file__).resolve().parents[2]
+FMUS = ROOT / "target" / "fmu"
+REFERENCE = ROOT / "target" / "release" / "reference"
+VERSIONS = ["fmi2", "fmi3"]
+SMALL_BLOCK = {"cells_x": 2.0, "cells_y": 4.0, "cells_z": 3.0}
+
+
+def fmu(model, version):
+    path = FMUS / f"{model}-{version}.fmu"
+    assert path.is_file(), f"{path} missing: run the bundler first"
+    return str(path)
+
+
+def reference(model, stop, step, params, outputs, input_csv=None):
+    args = [str(REFERENCE), model, str(stop), str(step)]
+    args += [f"{k}={v}" for k, v in params.items()]
+    if input_csv:
+        args.append(f"input={input_csv}")
+    args.append("out=" + ",".join(outputs))
+    text = subprocess.run(args, check=True, capture_output=True, text=True).stdout
+    return np.array([[float(x) for x in line.split(",")] for line in text.strip().splitlines()])
+
+
+@pytest.mark.parametrize("model", ["abdomen", "cutblock"])
+@pytest.mark.parametrize("version", VERSIONS)
+def test_validation_finds_no_problems(model, version):
+    assert validate_fmu(fmu(model, version)) == []
+    md = read_model_description(fmu(model, version))
+    assert md.coSimulation.canHandleVariableCommunicationStepSize
+    units = {u.name for u in md.unitDefinitions}
+    for v in md.modelVariables:
+        if v.unit:
+            assert v.unit in units
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_cutblock_with_input_table_reproduces_the_in_process_scene(version, tmp_path):
+    # Inputs change at communication points: pull ramps, the scalpel advances, a press.
+    times = np.arange(0.0, 3.01, 0.5)
+    table = np.array(
+        [(t, 2.0 * t, 20.0 * t, 0.1 if t >= 2.0 else 0.0) for t in times],
+        dtype=[("time", float), ("pull", float), ("scalpel_x", float), ("press_force", float)],
+    )
+    path = tmp_path / "inputs.csv"
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(table.dtype.names)
+        for row in table:
+            w.writerow([repr(float(x)) for x in row])
+    outputs = ["reaction_force", "cut_opening", "bottom_lift", "max_von_mises"]
+    result = simulate_fmu(
+        fmu("cutblock", version), start_values=SMALL_BLOCK, input=table, output=outputs,
+        stop_time=3.0, output_interval=0.5,
+    )
+    expect = reference("cutblock", 3.0, 0.5, SMALL_BLOCK, outputs, path)
+    assert len(result) == len(expect)
+    for i, name in enumerate(outputs):
+        np.testing.assert_array_equal(result[name], expect[:, i + 1], err_msg=name)
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_abdomen_with_shipped_configuration_reproduces_the_in_process_scene(version):
+    params = {"configuration": "narrow", "target_triangles": 800.0, "wall_E": 0.05}
+    outputs = ["floor_stress_max", "apex_uy", "cavity_vm_mean"]
+    result = simulate_fmu(
+        fmu("abdomen", version), start_values=params, output=outputs,
+        stop_time=0.1, output_interval=0.01,
+    )
+    expect = reference("abdomen", 0.1, 0.01, params, outputs)
+    for i, name in enumerate(outputs):
+        np.testing.assert_array_equal(result[name], expect[:, i + 1], err_msg=name)
+    assert np.all(np.isfinite(result["floor_stress_max"]))
+
+
+def test_fmi3_exposes_profiles_as_arrays_and_fmi2_as_indexed_scalars():
+    r3 = simulate_fmu(fmu("cutblock", "fmi3"), start_values={**SMALL_BLOCK, "pull": 4.0},
+                      stop_time=0.5, output_interval=0.5, output=["profile_x50"])
+    r2 = simulate_fmu(fmu("cutblock", "fmi2"), start_values={**SMALL_BLOCK, "pull": 4.0},
+                      stop_time=0.5, output_interval=0.5, output=["profile_x50[0]", "profile_x50[90]"])
+    assert r3["profile_x50"].shape == (2, 181)
+    assert r3["profile_x50"][-1][0] == r2["profile_x50[0]"][-1]
+    assert r3["profile_x50"][-1][90] == r2["profile_x50[90]"][-1]
+
+
+def slave(model, version):
+    path = fmu(model, version)
+    md = read_model_description(path)
+    unzipdir = extract(path)
+    vrs = {v.name: v.valueReference for v in md.modelVariables}
+    cls = FMU2Slave if version == "fmi2" else FMU3Slave
+    # fmpy keeps the FMI 3 instantiation token in `guid` as well.
+    s = cls(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=md.coSimulation.modelIdentifier, instanceName="t")
+    s.instantiate()
+    return s, vrs
+
+
+def set_real(s, version, vrs, name, x):
+    if version == "fmi2":
+        s.setReal([vrs[name]], [x])
+    else:
+        s.setFloat64([vrs[name]], [x])
+
+
+def get_real(s, version, vrs, name):
+    return (s.getReal if version == "fmi2" else s.getFloat64)([vrs[name]])[0]
+
+
+def initialize(s, version):
+    if version == "fmi2":
+        s.setupExperiment(startTime=0.0)
+        s.enterInitializationMode()
+    else:
+        s.enterInitializationMode(startTime=0.0)
+    s.exitInitializationMode()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_stiffness_change_mid_run_takes_effect_at_the_next_step(version):
+    s, vrs = slave("cutblock", version)
+    for k, v in SMALL_BLOCK.items():
+        set_real(s, version, vrs, k, v)
+    initialize(s, version)
+    set_real(s, version, vrs, "pull", 5.0)
+    s.doStep(0.0, 1.0)
+    before = get_real(s, version, vrs, "reaction_force")
+    set_real(s, version, vrs, "E", 2 * 0.0385)
+    assert get_real(s, version, vrs, "reaction_force") == before, "takes effect at the next step"
+    s.doStep(1.0, 1.0)
+    after = get_real(s, version, vrs, "reaction_force")
+    # Displacement loading: the force is proportional to E.
+    assert after / before == pytest.approx(2.0, rel=1e-12)
+    s.terminate()
+    s.freeInstance()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_bad_values_are_errors_with_a_message_naming_the_variable(version, capfd):
+    s, vrs = slave("cutblock", version)
+    with pytest.raises(Exception):
+        set_real(s, version, vrs, "nu", 0.5)
+    with pytest.raises(Exception):
+        s.doStep(0.0, 1.0)
+    out = capfd.readouterr()
+    text = out.out + out.err
+    assert "nu" in text and "out of range" in text, text
+    assert "not allowed" in text, text
+    s.freeInstance()
+
+
+def test_missing_configuration_is_an_error_naming_it(capfd):
+    s, vrs = slave("abdomen", "fmi2")
+    s.setString([vrs["configuration"]], ["no_such_pelvis"])
+    s.setupExperiment(startTime=0.0)
+    s.enterInitializationMode()
+    with pytest.raises(Exception):
+        s.exitInitializationMode()
+    out = capfd.readouterr()
+    assert "no_such_pelvis" in out.out + out.err
+    s.freeInstance()
