@@ -36,8 +36,9 @@ fn num(x: f64) -> String {
     format!("{x:?}")
 }
 
-/// Unit definitions for every unit the variables use, plus `extra` ones.
-fn units(vars: &[Variable], extra: &[&'static str]) -> String {
+/// Unit definitions for every unit the variables use, plus `extra` ones; for FMI 3 also a
+/// `Float64Type` per unit, named after it.
+fn units(vars: &[Variable], extra: &[&'static str], types: bool) -> String {
     let mut names: Vec<&str> = vars
         .iter()
         .map(|v| v.unit)
@@ -47,7 +48,7 @@ fn units(vars: &[Variable], extra: &[&'static str]) -> String {
     names.sort_unstable();
     names.dedup();
     let mut s = String::from("  <UnitDefinitions>\n");
-    for u in names {
+    for u in &names {
         let _ = writeln!(
             s,
             r#"    <Unit name="{}"><BaseUnit {}/></Unit>"#,
@@ -55,14 +56,35 @@ fn units(vars: &[Variable], extra: &[&'static str]) -> String {
             base_unit(u).unwrap_or_default()
         );
     }
-    s + "  </UnitDefinitions>\n"
+    s += "  </UnitDefinitions>\n";
+    if types {
+        s += "  <TypeDefinitions>\n";
+        for u in &names {
+            let _ = writeln!(s, r#"    <Float64Type name="{0}" unit="{0}"/>"#, esc(u));
+        }
+        s += "  </TypeDefinitions>\n";
+    }
+    s
+}
+
+/// How a real variable names its unit: FMI 2 directly (`unit`), FMI 3 through a type
+/// definition named after the unit (`declaredType`), which every importer we tried reads
+/// (the `fmi` crate's FMI 3 schema has no `unit` attribute on variables).
+#[derive(Clone, Copy)]
+enum UnitAttribute {
+    Unit,
+    DeclaredType,
 }
 
 /// unit, min and max attributes of a real variable.
-fn real_attributes(v: &Variable) -> String {
+fn real_attributes(v: &Variable, unit: UnitAttribute) -> String {
     let mut a = String::new();
     if base_unit(v.unit).is_some() {
-        let _ = write!(a, r#" unit="{}""#, esc(v.unit));
+        let key = match unit {
+            UnitAttribute::Unit => "unit",
+            UnitAttribute::DeclaredType => "declaredType",
+        };
+        let _ = write!(a, r#" {key}="{}""#, esc(v.unit));
     }
     if v.causality != Causality::Output {
         if v.min.is_finite() {
@@ -131,7 +153,7 @@ pub fn fmi2(model: &Model) -> String {
         r#"  <CoSimulation modelIdentifier="{}" canHandleVariableCommunicationStepSize="true" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="false" canSerializeFMUstate="false"/>"#,
         model.identifier
     );
-    s += &units(vars, &[]);
+    s += &units(vars, &[], false);
     s += LOG_CATEGORIES;
     s += &default_experiment(model);
     s += "  <ModelVariables>\n";
@@ -153,10 +175,15 @@ pub fn fmi2(model: &Model) -> String {
                 let _ = write!(s, r#"<String start="{}"/>"#, esc(x));
             }
             (VariableKind::Real, Start::Real(x)) => {
-                let _ = write!(s, r#"<Real start="{}"{}/>"#, num(*x), real_attributes(v));
+                let _ = write!(
+                    s,
+                    r#"<Real start="{}"{}/>"#,
+                    num(*x),
+                    real_attributes(v, UnitAttribute::Unit)
+                );
             }
             _ => {
-                let _ = write!(s, r#"<Real{}/>"#, real_attributes(v));
+                let _ = write!(s, r#"<Real{}/>"#, real_attributes(v, UnitAttribute::Unit));
             }
         }
         s += "</ScalarVariable>\n";
@@ -186,13 +213,13 @@ pub fn fmi3(model: &Model) -> String {
         r#"  <CoSimulation modelIdentifier="{}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUState="false" canSerializeFMUState="false" hasEventMode="false" providesIntermediateUpdate="false"/>"#,
         model.identifier
     );
-    s += &units(vars, &["s"]); // the unit of `time`
+    s += &units(vars, &["s"], true); // `s` is the unit of `time`
     s += LOG_CATEGORIES;
     s += &default_experiment(model);
     s += "  <ModelVariables>\n";
     let _ = writeln!(
         s,
-        r#"    <Float64 name="time" valueReference="{}" causality="independent" variability="continuous" unit="s" description="simulation time"/>"#,
+        r#"    <Float64 name="time" valueReference="{}" causality="independent" variability="continuous" declaredType="s" description="simulation time"/>"#,
         time_vr(vars)
     );
     for v in vars {
@@ -218,19 +245,23 @@ pub fn fmi3(model: &Model) -> String {
                     s,
                     r#"    <Float64 {common} start="{}"{}/>"#,
                     num(*x),
-                    real_attributes(v)
+                    real_attributes(v, UnitAttribute::DeclaredType)
                 );
             }
             _ if v.len > 1 => {
                 let _ = writeln!(
                     s,
                     r#"    <Float64 {common}{}><Dimension start="{}"/></Float64>"#,
-                    real_attributes(v),
+                    real_attributes(v, UnitAttribute::DeclaredType),
                     v.len
                 );
             }
             _ => {
-                let _ = writeln!(s, r#"    <Float64 {common}{}/>"#, real_attributes(v));
+                let _ = writeln!(
+                    s,
+                    r#"    <Float64 {common}{}/>"#,
+                    real_attributes(v, UnitAttribute::DeclaredType)
+                );
             }
         }
     }

@@ -1,1 +1,1 @@
-//! Cross-crate integration tests live in `tests/tests/`.
+//! Cross-crate integration tests live in `tests/tests/`; Python tests in `tests/python/`.
