@@ -420,3 +420,54 @@ impl Instance {
         Ok(&self.strings)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::{Arc, Mutex};
+
+    type Lines = Arc<Mutex<Vec<(Status, String, String)>>>;
+
+    fn instance(log_calls: bool) -> (Instance, Lines) {
+        let lines: Lines = Arc::default();
+        let sink = lines.clone();
+        let log: Log = Box::new(move |s, c, m| sink.lock().unwrap().push((s, c.into(), m.into())));
+        let token = crate::model::MODELS[1].token();
+        (
+            Instance::new(&token, "t", None, log, log_calls).unwrap(),
+            lines,
+        )
+    }
+
+    #[test]
+    fn errors_are_logged_with_the_variable_and_calls_only_when_asked() {
+        let (mut i, lines) = instance(false);
+        let nu = i.scene.lookup("nu").unwrap();
+        assert_eq!(i.set_reals(Layout::Arrays, &[nu], &[0.5]), Status::Error);
+        assert!(i.check(Call::DoStep, "fmi2DoStep").is_err());
+        let logged = lines.lock().unwrap().clone();
+        assert_eq!(logged.len(), 2);
+        assert!(logged
+            .iter()
+            .all(|(s, c, _)| *s == Status::Error && c == "logStatusError"));
+        assert!(logged[0].2.contains("`nu`"), "{:?}", logged[0]);
+        assert!(logged[1]
+            .2
+            .contains("fmi2DoStep is not allowed in phase Instantiated"));
+        // Call logging: off by default, on by category.
+        assert_eq!(i.set_debug_logging(true, &["logCalls".into()]), Status::Ok);
+        i.check(Call::Set, "fmi2SetReal").unwrap();
+        assert_eq!(lines.lock().unwrap().last().unwrap().1, "logCalls");
+        assert_eq!(
+            i.set_debug_logging(true, &["logStatusError".into()]),
+            Status::Ok
+        );
+        let before = lines.lock().unwrap().len();
+        i.check(Call::Set, "fmi2SetReal").unwrap();
+        assert_eq!(lines.lock().unwrap().len(), before, "logCalls not enabled");
+        assert_eq!(
+            i.set_debug_logging(true, &["logEverything".into()]),
+            Status::Error
+        );
+    }
+}
