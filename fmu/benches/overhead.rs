@@ -11,7 +11,6 @@ use divan::Bencher;
 use fmu::fmi2::*;
 use fmu::instance::fmi2_scalars;
 use fmu::model::MODELS;
-use models::scene::Scene;
 
 fn main() {
     divan::main();
