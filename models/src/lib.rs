@@ -2,6 +2,7 @@
 //! solvers, stress recovery. Units throughout: mm, N, s, t (tonne); stress in MPa.
 
 pub mod assembly;
+pub mod contact;
 pub mod element;
 pub mod error;
 pub mod mesh;
