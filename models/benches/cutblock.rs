@@ -115,3 +115,18 @@ mod parts {
         bencher.bench_local(|| models::assembly::solid::assembler(&b));
     }
 }
+
+/// A load step with the flanks pressed together (3 mm compression, full-width cut): solve,
+/// flank search, active-set iterations with refactorization.
+#[divan::bench(sample_count = 20)]
+fn contact_step(bencher: Bencher) {
+    let mut s = CutBlock::new();
+    s.initialize().unwrap();
+    s.set("scalpel_x", 100.0).unwrap();
+    let mut pull = -3.0;
+    bencher.bench_local(|| {
+        pull = if pull == -3.0 { -2.5 } else { -3.0 };
+        s.set("pull", pull).unwrap();
+        s.do_step(0.0, 1.0).unwrap();
+    });
+}

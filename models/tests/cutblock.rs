@@ -296,3 +296,60 @@ fn gripping_the_pulled_face_stiffens_the_block() {
     }
     assert!(gripped > clamped, "{gripped} vs {clamped}");
 }
+
+/// Largest overlap in y of twin flank nodes (duplicates of one node, y < y_cut side first).
+fn twin_overlap(s: &CutBlock) -> f64 {
+    let (mesh, u) = s.field().unwrap();
+    let mut at: std::collections::HashMap<[i64; 3], Vec<usize>> = Default::default();
+    for (n, p) in mesh.nodes().iter().enumerate() {
+        at.entry(p.map(|c| (c * 1e6).round() as i64))
+            .or_default()
+            .push(n);
+    }
+    at.values()
+        .filter(|v| v.len() == 2)
+        .map(|v| {
+            let y = |n: usize| u[3 * n + 1];
+            // The original node (lower index) is on the front flank.
+            y(v[0].min(v[1])) - y(v[0].max(v[1]))
+        })
+        .fold(0.0, f64::max)
+}
+
+fn compressed(contact: &str, pull: f64) -> CutBlock {
+    let mut s = scene(&[], &[("contact", contact)]);
+    step(&mut s, &[("pull", pull), ("scalpel_x", 100.0)]);
+    s
+}
+
+#[test]
+fn closing_flanks_are_kept_apart_by_contact() {
+    let (mut with, mut without) = (compressed("penalty", -3.0), compressed("none", -3.0));
+    let (fw, fo) = (
+        get(&mut with, "reaction_force"),
+        get(&mut without, "reaction_force"),
+    );
+    let (pw, po) = (get(&mut with, "penetration"), twin_overlap(&without));
+    let points = get(&mut with, "contact_points");
+    println!("compressed by 3 mm: reaction with contact {fw:.4} N, without {fo:.4} N; penetration {pw:.4} mm vs {po:.4} mm; {points} contact points");
+    // Compression: the reaction is negative; contact makes the block stiffer.
+    assert!(fw < fo && fo < 0.0, "{fw} {fo}");
+    assert!(points > 0.0);
+    // The penetration left by the penalty is below 1 % of the 5 mm cell in front of the cut,
+    // and far below what the flanks overlap without contact.
+    assert!(pw < 0.05, "{pw}");
+    assert!(po > 10.0 * pw, "{po} vs {pw}");
+}
+
+#[test]
+fn open_flanks_give_the_contact_free_answer() {
+    let (mut with, mut without) = (compressed("penalty", 10.0), compressed("none", 10.0));
+    assert_eq!(get(&mut with, "contact_points"), 0.0);
+    let (fw, fo) = (
+        get(&mut with, "reaction_force"),
+        get(&mut without, "reaction_force"),
+    );
+    assert!(((fw - fo) / fo).abs() < 1e-10, "{fw} vs {fo}");
+    // Open flanks cost no extra factorization.
+    assert_eq!(with.work().factorizations, 2);
+}

@@ -8,11 +8,12 @@
 //! factorization; E or ν → reassembly and numeric refactorization; the cut grew by a cell →
 //! a new mesh, pattern, symbolic analysis and factorization.
 
+mod contact;
 mod outputs;
 mod topology;
 
 use outputs::Outputs;
-use topology::{Geometry, Strategy, Support, Topology};
+use topology::{Geometry, Options, Strategy, Support, Topology};
 
 use super::{Scene, SceneError, Values, Variability, Variable};
 use crate::element::Elastic;
@@ -38,7 +39,8 @@ const POISSON: u32 = 12;
 const PULL: u32 = 13;
 const PRESS: u32 = 14;
 const SCALPEL: u32 = 15;
-const FIRST_OUTPUT: u32 = 16;
+const CONTACT: u32 = 16;
+const FIRST_OUTPUT: u32 = 17;
 
 fn table() -> Vec<Variable> {
     use Variability::{Fixed, Tunable};
@@ -61,12 +63,15 @@ fn table() -> Vec<Variable> {
         Variable::input("pull", "mm", 0.0, (-1e3, 1e3), "prescribed u_y of the face y = L"),
         Variable::input("press_force", "N", 0.0, (0.0, 1e6), "downward force on the top surface at the scalpel tip"),
         Variable::input("scalpel_x", "mm", 0.0, (0.0, 1e4), "scalpel position; the incision covers x from 0 to here, in whole cells"),
+        Variable::string("contact", "penalty", "`penalty` (closing cut flanks are kept apart, node-to-facet penalty) or `none` (flanks may pass through each other)"),
         Variable::output("reaction_force", "N", 1, "y-reaction force on the pulled face y = L"),
         Variable::output("cut_opening", "mm", 1, "largest gap between facing flank nodes on the top surface"),
         Variable::output("bottom_lift", "mm", 1, "largest upward displacement of the bottom surface under the cut plane"),
         Variable::output("x_contraction", "mm", 1, "largest inward x-displacement of the end faces x = 0 and x = size_x"),
         Variable::output("max_von_mises", "MPa", 1, "maximum of the volume-weighted nodal averages of element von Mises stress (seed 002 eq. 4.4)"),
         Variable::output("cut_length", "mm", 1, "current incision length in x (whole cells behind the scalpel)"),
+        Variable::output("contact_points", "1", 1, "number of flank nodes held by contact springs"),
+        Variable::output("penetration", "mm", 1, "deepest penetration of a flank node into the opposite flank"),
         Variable::output("profile_x25", "mm", PROFILE_STATIONS, "deformed top-surface height along x = 25 mm at y = 0, 0.5, …, 90 mm (NaN: no surface, e.g. in the open cut)"),
         Variable::output("profile_x50", "mm", PROFILE_STATIONS, "deformed top-surface height along x = 50 mm, stations as profile_x25"),
         Variable::output("profile_x75", "mm", PROFILE_STATIONS, "deformed top-surface height along x = 75 mm, stations as profile_x25"),
@@ -162,8 +167,11 @@ impl CutBlock {
             self.values.real(Y_CUT),
             self.values.real(DEPTH),
             self.values.real(PRESS_RADIUS),
-            Strategy::parse(self.values.string(STRATEGY)?)?,
-            Support::parse(self.values.string(SUPPORT)?)?,
+            Options {
+                strategy: Strategy::parse(self.values.string(STRATEGY)?)?,
+                support: Support::parse(self.values.string(SUPPORT)?)?,
+                contact: self.values.string(CONTACT)? == "penalty",
+            },
         )
     }
 
@@ -192,7 +200,7 @@ impl CutBlock {
             self.values.real(PULL),
             self.values.real(PRESS),
             self.values.real(SCALPEL),
-        );
+        )?;
         self.work.solves += 1;
         self.outputs = None;
         Ok(())
@@ -234,6 +242,11 @@ impl Scene for CutBlock {
         match vr {
             STRATEGY => Strategy::parse(value).map(drop)?,
             SUPPORT => Support::parse(value).map(drop)?,
+            CONTACT if !matches!(value, "penalty" | "none") => {
+                return Err(SceneError::Config(format!(
+                    "contact `{value}`: use `penalty` or `none`"
+                )));
+            }
             _ => {}
         }
         self.values.set_string(vr, value)

@@ -9,7 +9,7 @@ use crate::stress;
 /// All outputs of one solved state, in table order.
 #[derive(Debug, Clone)]
 pub struct Outputs {
-    scalars: [f64; 6],
+    scalars: [f64; 8],
     profiles: [Vec<f64>; 3],
 }
 
@@ -22,6 +22,8 @@ impl Outputs {
             x_contraction(t),
             max_von_mises(t),
             g.x_planes[t.cut_cells],
+            t.contact.as_ref().map_or(0.0, |c| c.active.len() as f64),
+            t.contact.as_ref().map_or(0.0, |c| c.penetration),
         ];
         let surface = DeformedSurface::new(&t.mesh, &t.top_faces, &t.u);
         let profiles = PROFILE_LINES.map(|x| {

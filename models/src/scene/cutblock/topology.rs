@@ -1,6 +1,7 @@
 //! Geometry (node planes, snapping, supports) and the current topology of the cut block:
 //! the cut mesh, its pattern, factorization and last solution.
 
+use super::contact::{FlankContact, PENALTY_FACTOR};
 use crate::assembly::plane::Continuum;
 use crate::assembly::{loads, solid, Assembler};
 use crate::element::Elastic;
@@ -53,6 +54,15 @@ impl Support {
     }
 }
 
+/// The choices of how the block is cut, held and kept from interpenetrating.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Options {
+    pub strategy: Strategy,
+    pub support: Support,
+    /// Whether closing flanks are kept apart (penalty contact).
+    pub contact: bool,
+}
+
 /// The uncut block and where the incision can go.
 #[derive(Debug, Clone)]
 pub struct Geometry {
@@ -65,8 +75,7 @@ pub struct Geometry {
     /// Thickness of the element layer removed by the deletion strategy.
     pub layer: f64,
     pub press_radius: f64,
-    pub strategy: Strategy,
-    pub support: Support,
+    pub options: Options,
 }
 
 /// Uniform planes over [0, length]; if `target` lies strictly inside, the nearest interior
@@ -91,8 +100,7 @@ impl Geometry {
         y_cut: f64,
         depth: f64,
         press_radius: f64,
-        strategy: Strategy,
-        support: Support,
+        options: Options,
     ) -> Result<Self, SceneError> {
         if !(y_cut > 0.0 && y_cut < size[1]) {
             return Err(SceneError::Config(format!(
@@ -122,8 +130,7 @@ impl Geometry {
             z_cut,
             layer: y_cut - y_planes[at - 1],
             press_radius,
-            strategy,
-            support,
+            options,
         })
     }
 
@@ -151,12 +158,15 @@ impl Geometry {
             x: (0.0, self.x_planes[cells]),
             z: (z0, self.size[2]),
         };
-        Ok(match self.strategy {
+        Ok(match self.options.strategy {
             Strategy::Duplicate => cut::split(&self.base, &incision)?,
             Strategy::Delete => cut::delete(&self.base, &incision, self.layer)?,
         })
     }
 }
+
+/// Largest number of solves per step while the contact set changes.
+const CONTACT_ITERATIONS: usize = 25;
 
 /// Everything that depends on the current cut: mesh, pattern, factorization, solution.
 #[derive(Debug)]
@@ -166,8 +176,14 @@ pub struct Topology {
     pub flank_pairs: Vec<(usize, usize)>,
     pub asm: Assembler,
     pub statics: Statics,
+    /// Stiffness of the tetrahedra alone, and with the active contact springs (factorized).
+    pub k_base: Vec<f64>,
     pub k: Vec<f64>,
     pub material: Elastic,
+    /// Flank contact, if the scene has a cut and contact is on.
+    pub contact: Option<FlankContact>,
+    /// The y size of the cell in front of the cut (sets penalty and search tolerance).
+    layer: f64,
     /// Top-surface boundary faces (undeformed z = size_z).
     pub top_faces: Vec<[usize; 3]>,
     /// Nodes of the pulled face.
@@ -189,7 +205,7 @@ impl Topology {
         let pulled = sets.get("y1")?.to_vec();
         let mut fixed: Vec<usize> = pulled.iter().map(|n| 3 * n + 1).collect();
         let all = |n: &usize| [3 * n, 3 * n + 1, 3 * n + 2];
-        match g.support {
+        match g.options.support {
             Support::Clamped => fixed.extend(clamped.iter().flat_map(all)),
             Support::Gripped => {
                 fixed.extend(clamped.iter().flat_map(all));
@@ -214,15 +230,31 @@ impl Topology {
             })
             .map(|f| f.nodes)
             .collect();
-        let asm = solid::assembler(&mesh);
+        let contact = if g.options.contact {
+            FlankContact::new(&mesh, &flank_pairs, mesh.tets().len(), g.layer)
+        } else {
+            None
+        };
+        let asm = match &contact {
+            None => solid::assembler(&mesh),
+            Some(c) => {
+                let mut elements: Vec<&[usize]> =
+                    mesh.tets().iter().map(|t| t.as_slice()).collect();
+                elements.extend(c.elements.iter().map(|e| e.as_slice()));
+                Assembler::new(mesh.nodes().len(), 3, &elements)
+            }
+        };
         let statics = Statics::new(&asm, &fixed, Layout::Supernodal)?;
         let n_dofs = mesh.n_dofs();
         let mut t = Self {
             cut_cells: cells,
+            k_base: asm.zeros(),
             k: asm.zeros(),
             asm,
             statics,
             material,
+            contact,
+            layer: g.layer,
             top_faces,
             pulled,
             u: vec![0.0; n_dofs],
@@ -240,10 +272,24 @@ impl Topology {
             elastic: self.material,
             density: 0.0,
         };
-        solid::stiffness(&self.mesh, &self.asm, &continuum, &mut self.k);
+        solid::stiffness(&self.mesh, &self.asm, &continuum, &mut self.k_base);
+        self.factorize()
+    }
+
+    /// Factorizes the tetrahedra plus the active contact springs.
+    fn factorize(&mut self) -> Result<(), SceneError> {
+        self.k.copy_from_slice(&self.k_base);
+        if let Some(c) = &self.contact {
+            c.add_stiffness(&self.asm, self.penalty(), &mut self.k);
+        }
         self.statics.factorize(&self.k)?;
         self.factorizations += 1;
         Ok(())
+    }
+
+    /// Penalty stiffness k_p = PENALTY_FACTOR · E · h (N/mm).
+    fn penalty(&self) -> f64 {
+        PENALTY_FACTOR * self.material.young() * self.layer
     }
 
     /// Reassembles and refactorizes if the material changed.
@@ -255,18 +301,44 @@ impl Topology {
         Ok(())
     }
 
-    /// Solves for the pull (mm) and the press force (N) at the scalpel position.
-    pub fn solve(&mut self, g: &Geometry, pull: f64, press: f64, scalpel_x: f64) {
-        self.u.fill(0.0);
-        for &n in &self.pulled {
-            self.u[3 * n + 1] = pull;
+    /// Solves for the pull (mm) and the press force (N) at the scalpel position. With flank
+    /// contact: solve, search the flanks, and while the set of penetrating nodes changes,
+    /// refactorize with their springs and solve again (at most `CONTACT_ITERATIONS` times).
+    pub fn solve(
+        &mut self,
+        g: &Geometry,
+        pull: f64,
+        press: f64,
+        scalpel_x: f64,
+    ) -> Result<(), SceneError> {
+        for _ in 0..CONTACT_ITERATIONS {
+            self.u.fill(0.0);
+            for &n in &self.pulled {
+                self.u[3 * n + 1] = pull;
+            }
+            self.f.fill(0.0);
+            if press > 0.0 {
+                self.press_load(g, press, scalpel_x);
+            }
+            let penalty = self.penalty();
+            if let Some(c) = &self.contact {
+                c.add_loads(penalty, &mut self.f);
+            }
+            self.statics
+                .solve(self.asm.matrix(&self.k), &self.f, &mut self.u);
+            let Some(c) = &mut self.contact else {
+                return Ok(());
+            };
+            let springs = c.detect(&self.mesh, &self.u);
+            if c.same_as_active(&springs) {
+                return Ok(());
+            }
+            c.active = springs;
+            self.factorize()?;
         }
-        self.f.fill(0.0);
-        if press > 0.0 {
-            self.press_load(g, press, scalpel_x);
-        }
-        self.statics
-            .solve(self.asm.matrix(&self.k), &self.f, &mut self.u);
+        Err(SceneError::Config(format!(
+            "flank contact did not settle in {CONTACT_ITERATIONS} active-set iterations"
+        )))
     }
 
     /// The press force as a uniform pressure over the top faces whose centroid lies within

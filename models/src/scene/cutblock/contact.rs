@@ -1,0 +1,265 @@
+//! Contact of the cut flanks (issue "self-contact"): when a press or a negative pull closes
+//! the incision, the flank facets are searched for facing pairs (the seed-001 search in
+//! `crate::contact`) and non-penetration is enforced node-to-facet by penalty springs, with an
+//! active-set loop: solve, search, activate every flank node found behind a facing flank facet
+//! of its twin's neighbourhood, re-solve, until the active set repeats.
+//!
+//! The search tolerance is h, the y size of the cell in front of the cut: facing flank
+//! facets closer than that are candidates, and the signed node-to-facet gap decides (flat
+//! flanks that have slid through each other neither touch nor cross, so a proximity search
+//! with a small tolerance would miss them).
+//!
+//! A node joins the active set when it lies behind a facing flank facet (g < 0) and leaves it
+//! only when its gap opens beyond 0.01 h: without this hysteresis, nodes held by stiff
+//! springs sit within the linearization error of g = 0 and flip in and out of the set.
+//!
+//! Penalty stiffness k_p = 1000 · E · h (N/mm):
+//! a thousand times the axial stiffness of that cell per unit face area, so the penetration
+//! under a contact force F is F / k_p (checked by the tests against a stated tolerance).
+//! The gap of node s against facet m (unit outward normal n, barycentric weights N_i of the
+//! projection of s) is g = n · (x_s − Σ N_i x_i); it is linearized with n and N_i frozen per
+//! iteration, g = g₀ + Bᵀu, giving the element stiffness k_p B Bᵀ and load −k_p g₀ B.
+//!
+//! The pattern includes, once per topology, a potential contact element between each flank
+//! node and each facet of the opposite flank around its twin (small sliding), so activating
+//! contacts refactorizes numerically on the existing symbolic analysis.
+
+use std::collections::HashMap;
+
+use nalgebra::{SMatrix, SVector, Vector3};
+
+use crate::assembly::Assembler;
+use crate::contact::{sorting, BvKind, Bvh, Search, Surface};
+use crate::mesh::Mesh3d;
+
+/// Penalty stiffness per (E · h).
+pub const PENALTY_FACTOR: f64 = 1000.0;
+
+/// Release gap of a held node per h.
+pub const RELEASE_FACTOR: f64 = 0.01;
+
+/// One active contact: element index in the assembler, B vector, g₀.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Spring {
+    pub element: usize,
+    pub node: usize,
+    pub facet: usize,
+    pub b: SVector<f64, 12>,
+    pub g0: f64,
+}
+
+/// Flank contact of one cut topology.
+#[derive(Debug)]
+pub struct FlankContact {
+    surface: Surface,
+    bvh: Bvh,
+    /// (mesh node, flank facet) → assembler element.
+    candidates: HashMap<(usize, usize), usize>,
+    /// Node lists of the candidate elements: [slave, master₀, master₁, master₂].
+    pub elements: Vec<[usize; 4]>,
+    tolerance: f64,
+    /// A held node is released only once its gap exceeds this (hysteresis: the gap of a
+    /// held node is of the order of the linearization error, not of F / k_p).
+    release: f64,
+    first_element: usize,
+    /// The springs of the current factorization.
+    pub active: Vec<Spring>,
+    /// Deepest penetration found by the last detection (mm, ≥ 0).
+    pub penetration: f64,
+}
+
+impl FlankContact {
+    /// The flank facets (boundary faces whose nodes all lie on a flank) and the candidate
+    /// elements; `first_element` is the assembler index of the first candidate. `None` if
+    /// there are no flank facets.
+    pub fn new(
+        mesh: &Mesh3d,
+        flank_pairs: &[(usize, usize)],
+        first_element: usize,
+        h: f64,
+    ) -> Option<Self> {
+        let mut on_flank = vec![false; mesh.nodes().len()];
+        for &(f, b) in flank_pairs {
+            on_flank[f] = true;
+            on_flank[b] = true;
+        }
+        let faces: Vec<[usize; 3]> = mesh
+            .boundary()
+            .iter()
+            .map(|f| f.nodes)
+            .filter(|f| f.iter().all(|&n| on_flank[n]))
+            .collect();
+        if faces.is_empty() {
+            return None;
+        }
+        let surface = Surface::new(3, &faces);
+        let mut facets_at: HashMap<usize, Vec<usize>> = HashMap::new();
+        for (i, f) in faces.iter().enumerate() {
+            for &n in f {
+                facets_at.entry(n).or_default().push(i);
+            }
+        }
+        let mut candidates = HashMap::new();
+        let mut elements = Vec::new();
+        for &(front, back) in flank_pairs {
+            for (slave, twin) in [(front, back), (back, front)] {
+                for &facet in facets_at.get(&twin).into_iter().flatten() {
+                    let f = faces[facet];
+                    if f.contains(&slave) {
+                        continue;
+                    }
+                    candidates.insert((slave, facet), first_element + elements.len());
+                    elements.push([slave, f[0], f[1], f[2]]);
+                }
+            }
+        }
+        let positions = surface.positions(mesh.nodes(), None, 3);
+        let bvh = Bvh::build(&surface, &positions, BvKind::Aabb);
+        Some(Self {
+            surface,
+            bvh,
+            candidates,
+            elements,
+            tolerance: h,
+            release: RELEASE_FACTOR * h,
+            first_element,
+            active: Vec::new(),
+            penetration: 0.0,
+        })
+    }
+
+    /// Searches the deformed flanks (displacements `u`) and returns the springs that should
+    /// be active, sorted; also updates `penetration`.
+    pub fn detect(&mut self, mesh: &Mesh3d, u: &[f64]) -> Vec<Spring> {
+        let positions = self.surface.positions(mesh.nodes(), Some(u), 3);
+        self.bvh.refit(&self.surface, &positions, self.tolerance);
+        let (pairs, _) = Search::run(&self.surface, &self.bvh, &positions, self.tolerance);
+        // One spring per penetrating node: against the facet it lies deepest behind.
+        let mut best: HashMap<usize, (f64, Spring)> = HashMap::new();
+        self.penetration = 0.0;
+        for o in sorting::sort(&self.surface, &pairs) {
+            for (slave_facet, master) in [(o.slave, o.master), (o.master, o.slave)] {
+                for &local in &self.surface.facets[slave_facet] {
+                    let node = self.surface.nodes[local];
+                    let Some((g, g0, b)) = gap(mesh, u, node, self.mesh_facet(master)) else {
+                        continue;
+                    };
+                    let held = self.active.iter().any(|s| s.node == node);
+                    if g >= if held { self.release } else { 0.0 } {
+                        continue;
+                    }
+                    self.penetration = self.penetration.max(-g);
+                    if let Some(&element) = self.candidates.get(&(node, master)) {
+                        let spring = Spring {
+                            element,
+                            node,
+                            facet: master,
+                            b,
+                            g0,
+                        };
+                        match best.get(&node) {
+                            Some((depth, _)) if *depth >= -g => {}
+                            _ => {
+                                best.insert(node, (-g, spring));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        // A held node the search no longer sees (its projection slid off the facet's edge)
+        // stays held while its own linearized gap is below the release gap.
+        for s in &self.active {
+            if let std::collections::hash_map::Entry::Vacant(slot) = best.entry(s.node) {
+                let nodes = self.elements[s.element - self.first_element];
+                let g = s.g0
+                    + (0..12)
+                        .map(|k| s.b[k] * u[3 * nodes[k / 3] + k % 3])
+                        .sum::<f64>();
+                if g < self.release {
+                    self.penetration = self.penetration.max(-g);
+                    slot.insert((-g, s.clone()));
+                }
+            }
+        }
+        let mut springs: Vec<Spring> = best.into_values().map(|(_, s)| s).collect();
+        springs.sort_by_key(|s| s.node);
+        springs
+    }
+
+    fn mesh_facet(&self, facet: usize) -> [usize; 3] {
+        self.surface.facets[facet].map(|v| self.surface.nodes[v])
+    }
+
+    /// Whether `springs` hold the same nodes as the current factorization's (a node that
+    /// slid onto a neighbouring facet of the same flank does not restart the loop).
+    pub fn same_as_active(&self, springs: &[Spring]) -> bool {
+        springs.len() == self.active.len()
+            && springs
+                .iter()
+                .zip(&self.active)
+                .all(|(a, b)| a.node == b.node)
+    }
+
+    /// Adds k_p B Bᵀ of the active springs to `k`.
+    pub fn add_stiffness(&self, asm: &Assembler, penalty: f64, k: &mut [f64]) {
+        for s in &self.active {
+            let ke: SMatrix<f64, 12, 12> = s.b * s.b.transpose() * penalty;
+            asm.add(k, s.element, &ke);
+        }
+    }
+
+    /// Adds −k_p g₀ B of the active springs to `f`.
+    pub fn add_loads(&self, penalty: f64, f: &mut [f64]) {
+        for s in &self.active {
+            let nodes = self.elements[s.element - self.first_element];
+            for (i, &n) in nodes.iter().enumerate() {
+                for d in 0..3 {
+                    f[3 * n + d] -= penalty * s.g0 * s.b[3 * i + d];
+                }
+            }
+        }
+    }
+}
+
+/// Gap of mesh node `node` against facet `m` (outward normal from the node order) at
+/// displacements `u`: (g, g₀, B), or `None` if the projection misses the facet.
+fn gap(
+    mesh: &Mesh3d,
+    u: &[f64],
+    node: usize,
+    m: [usize; 3],
+) -> Option<(f64, f64, SVector<f64, 12>)> {
+    let x = |n: usize| {
+        Vector3::from(mesh.nodes()[n]) + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2])
+    };
+    let (a, b, c, s) = (x(m[0]), x(m[1]), x(m[2]), x(node));
+    let normal = (b - a).cross(&(c - a));
+    let area2 = normal.norm();
+    if area2 == 0.0 {
+        return None;
+    }
+    let n = normal / area2;
+    let p = s - n * n.dot(&(s - a));
+    let w = |q: Vector3<f64>, r: Vector3<f64>| (q - p).cross(&(r - p)).dot(&n) / area2;
+    let weights = [w(b, c), w(c, a), w(a, b)];
+    const EDGE: f64 = -1e-6;
+    if weights.iter().any(|&l| l < EDGE) {
+        return None;
+    }
+    let mut bvec = SVector::<f64, 12>::zeros();
+    for d in 0..3 {
+        bvec[d] = n[d];
+        for (i, &l) in weights.iter().enumerate() {
+            bvec[3 * (i + 1) + d] = -l * n[d];
+        }
+    }
+    let reference = |k: usize| Vector3::from(mesh.nodes()[k]);
+    let x0 = reference(node)
+        - weights
+            .iter()
+            .zip(m)
+            .map(|(&l, k)| reference(k) * l)
+            .sum::<Vector3<f64>>();
+    Some((n.dot(&(s - a)), n.dot(&x0), bvec))
+}
