@@ -210,3 +210,53 @@ fn refit_follows_deformation_and_reports_degradation() {
     bvh.refit(&s, &scrambled, 0.1);
     assert!(bvh.degradation() > 1.5, "{}", bvh.degradation());
 }
+
+#[test]
+fn boundary_segments_of_a_2d_mesh_run_counter_clockwise() {
+    let mesh = models::mesh::generate::rectangle(4.0, 2.0, 8, 4).unwrap();
+    let s = Surface::of_mesh2d(&mesh);
+    assert_eq!(s.arity, 2);
+    assert_eq!(s.facets.len(), 2 * (8 + 4));
+    let points: Vec<[f64; 3]> = mesh.nodes().iter().map(|p| [p[0], p[1], 0.0]).collect();
+    let p = s.positions(&points, None, 2);
+    // Outward normals: (Δy, −Δx) points away from the centre (2, 1).
+    for f in &s.facets {
+        let (a, b) = (p[f[0]], p[f[1]]);
+        let n = [b[1] - a[1], -(b[0] - a[0])];
+        let mid = [(a[0] + b[0]) / 2.0 - 2.0, (a[1] + b[1]) / 2.0 - 1.0];
+        assert!(n[0] * mid[0] + n[1] * mid[1] > 0.0);
+    }
+    // Each segment has exactly two neighbours on a closed loop.
+    assert!(s.neighbours.iter().all(|nb| nb.len() == 2));
+    assert!(check(&s, &p, 0.1, "rectangle boundary").is_empty());
+}
+
+#[test]
+fn master_slave_assignment_is_stable_under_small_motion() {
+    let fold = |z: f64| {
+        sheet(40, 4, move |i, j| {
+            let y = j as f64;
+            if i <= 18 {
+                [(18 - i) as f64, y, z]
+            } else if i < 22 {
+                let t = std::f64::consts::PI * (i - 18) as f64 / 4.0;
+                [-z * t.sin(), y, z * t.cos()]
+            } else {
+                [(i - 22) as f64, y, -z]
+            }
+        })
+    };
+    let orient = |z: f64| {
+        let (s, p) = fold(z);
+        let mut bvh = Bvh::build(&s, &p, BvKind::Aabb);
+        bvh.refit(&s, &p, 0.6);
+        let (pairs, _) = Search::run(&s, &bvh, &p, 0.6);
+        sorting::sort(&s, &pairs)
+    };
+    let (a, b) = (orient(0.2), orient(0.21));
+    let common: Vec<_> = a.iter().filter(|o| b.iter().any(|q| (q.master, q.slave) == (o.master, o.slave) || (q.slave, q.master) == (o.master, o.slave))).collect();
+    assert!(!common.is_empty());
+    for o in common {
+        assert!(b.iter().any(|q| (q.master, q.slave) == (o.master, o.slave)), "pair {o:?} flipped");
+    }
+}
