@@ -2,7 +2,7 @@
 //! (plane strain) and tetrahedra, von Mises equivalent stress (seed 002 eq. 4.4), area- or
 //! volume-weighted nodal averages, and axial stresses of line elements.
 
-use nalgebra::{Vector3, Vector6};
+use nalgebra::{SMatrix, Vector6};
 
 use crate::assembly::plane::PlaneProperties;
 use crate::element::{line2, tet4, tri3, Elastic};
@@ -31,25 +31,60 @@ pub fn von_mises(s: &Vector6<f64>) -> f64 {
     (0.5 * normal + 3.0 * shear).sqrt()
 }
 
-/// Stress of triangle `i` for nodal displacements `u` (all dofs).
-pub fn triangle_stress(mesh: &Mesh2d, material: &Elastic, i: usize, u: &[f64]) -> PlaneStress {
-    let ue = tri3::Dofs::from_fn(|k, _| u[mesh.triangle_dofs(i)[k]]);
-    let e: Vector3<f64> = tri3::strain(&mesh.triangle(i), &ue);
-    let s = material.plane_strain() * e;
-    PlaneStress {
-        xx: s[0],
-        yy: s[1],
-        xy: s[2],
-        zz: material.lambda() * (e[0] + e[1]),
+/// Per-triangle stress operators S (4 × 6) with (σxx, σyy, σxy, σzz) = S u_e: the
+/// plane-strain D·B, and λ times the first two rows of B for σzz = λ(ε_xx + ε_yy). Built once
+/// per mesh and material, so that recovering every stress after a step is 24 multiply-adds a
+/// triangle.
+#[derive(Debug, Clone)]
+pub struct TriangleStresses {
+    operators: Vec<SMatrix<f64, 4, 6>>,
+}
+
+impl TriangleStresses {
+    pub fn new(mesh: &Mesh2d, props: &PlaneProperties) -> Self {
+        let d: Vec<_> = props
+            .continua
+            .iter()
+            .map(|c| (c.elastic.plane_strain(), c.elastic.lambda()))
+            .collect();
+        let operators = (0..mesh.triangles().len())
+            .map(|i| {
+                let (dm, lambda) = &d[usize::from(mesh.triangle_regions()[i])];
+                let (b, _) = tri3::b_matrix(&mesh.triangle(i));
+                let db = dm * b;
+                let mut s = SMatrix::<f64, 4, 6>::zeros();
+                s.fixed_rows_mut::<3>(0).copy_from(&db);
+                s.set_row(3, &((b.row(0) + b.row(1)) * *lambda));
+                s
+            })
+            .collect();
+        Self { operators }
+    }
+
+    /// Stress of triangle `i` for nodal displacements `u` (all dofs).
+    pub fn stress(&self, mesh: &Mesh2d, i: usize, u: &[f64]) -> PlaneStress {
+        let ue = tri3::Dofs::from_fn(|k, _| u[mesh.triangle_dofs(i)[k]]);
+        let s = self.operators[i] * ue;
+        PlaneStress {
+            xx: s[0],
+            yy: s[1],
+            xy: s[2],
+            zz: s[3],
+        }
+    }
+
+    /// Stresses of all triangles.
+    pub fn all(&self, mesh: &Mesh2d, u: &[f64]) -> Vec<PlaneStress> {
+        (0..self.operators.len())
+            .map(|i| self.stress(mesh, i, u))
+            .collect()
     }
 }
 
-/// Stresses of all triangles.
+/// Stresses of all triangles (builds the operators; keep a [`TriangleStresses`] when
+/// recovering repeatedly).
 pub fn triangle_stresses(mesh: &Mesh2d, props: &PlaneProperties, u: &[f64]) -> Vec<PlaneStress> {
-    let regions = mesh.triangle_regions();
-    (0..mesh.triangles().len())
-        .map(|i| triangle_stress(mesh, &props.continua[usize::from(regions[i])].elastic, i, u))
-        .collect()
+    TriangleStresses::new(mesh, props).all(mesh, u)
 }
 
 /// Axial stresses of all line elements (MPa, positive in tension).

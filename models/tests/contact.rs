@@ -254,9 +254,20 @@ fn master_slave_assignment_is_stable_under_small_motion() {
         sorting::sort(&s, &pairs)
     };
     let (a, b) = (orient(0.2), orient(0.21));
-    let common: Vec<_> = a.iter().filter(|o| b.iter().any(|q| (q.master, q.slave) == (o.master, o.slave) || (q.slave, q.master) == (o.master, o.slave))).collect();
+    let common: Vec<_> = a
+        .iter()
+        .filter(|o| {
+            b.iter().any(|q| {
+                (q.master, q.slave) == (o.master, o.slave)
+                    || (q.slave, q.master) == (o.master, o.slave)
+            })
+        })
+        .collect();
     assert!(!common.is_empty());
     for o in common {
-        assert!(b.iter().any(|q| (q.master, q.slave) == (o.master, o.slave)), "pair {o:?} flipped");
+        assert!(
+            b.iter().any(|q| (q.master, q.slave) == (o.master, o.slave)),
+            "pair {o:?} flipped"
+        );
     }
 }

@@ -36,6 +36,7 @@ use crate::assembly::{loads, Assembler, Dirichlet};
 use crate::element::Elastic;
 use crate::mesh::Mesh2d;
 use crate::solve::{Damping, Integrator, IntegratorKind, Layout, Statics, Structure};
+use crate::stress::TriangleStresses;
 
 /// Tissue names as used in variable names: the cavity (triangles) and the three membranes
 /// (line regions 0, 1, 2).
@@ -224,6 +225,8 @@ struct Model {
     unit_load: Vec<f64>,
     fixed: Vec<usize>,
     u_full: Vec<f64>,
+    /// Stress operators of the triangles for the current properties.
+    stresses: TriangleStresses,
 }
 
 impl std::fmt::Debug for Model {
@@ -323,7 +326,7 @@ impl Abdomen {
     /// dofs, e.g. one from [`Abdomen::static_displacement`].
     pub fn evaluate(&self, u_full: &[f64], press: f64) -> Result<Vec<f64>, SceneError> {
         let m = self.model.as_ref().ok_or_else(not_initialized)?;
-        let outputs = Outputs::compute(&m.meshed.mesh, &m.props, u_full, press);
+        let outputs = Outputs::compute(&m.meshed.mesh, &m.props, &m.stresses, u_full, press);
         Ok((0..self.values.table().len() - FIRST_OUTPUT as usize)
             .map(|i| outputs.get(i))
             .collect())
@@ -392,6 +395,7 @@ impl Abdomen {
         let unit_load = diaphragm_unit_load(mesh, structure.dirichlet())?;
         let kind = IntegratorKind::parse(self.values.string(INTEGRATOR)?)?;
         Ok(Model {
+            stresses: TriangleStresses::new(mesh, &props),
             u_full: vec![0.0; mesh.n_dofs()],
             meshed,
             props,
@@ -418,6 +422,7 @@ impl Abdomen {
         let m = self.model.as_mut().ok_or_else(not_initialized)?;
         plane::stiffness(&m.meshed.mesh, &m.asm, &props, &mut m.k);
         m.structure.set_stiffness(&m.k);
+        m.stresses = TriangleStresses::new(&m.meshed.mesh, &props);
         m.props = props;
         let dt = m.integrator.dt();
         m.integrator.prepare(&m.structure, dt)?;
@@ -484,9 +489,9 @@ impl Scene for Abdomen {
         }
         let press = self.press(self.time);
         let m = self.model.as_ref().ok_or_else(not_initialized)?;
-        let outputs = self
-            .outputs
-            .get_or_insert_with(|| Outputs::compute(&m.meshed.mesh, &m.props, &m.u_full, press));
+        let outputs = self.outputs.get_or_insert_with(|| {
+            Outputs::compute(&m.meshed.mesh, &m.props, &m.stresses, &m.u_full, press)
+        });
         out[0] = outputs.get((vr - FIRST_OUTPUT) as usize);
         Ok(())
     }

@@ -3,14 +3,20 @@
 use crate::assembly::plane::PlaneProperties;
 use crate::element::tri3;
 use crate::mesh::Mesh2d;
-use crate::stress;
+use crate::stress::{self, TriangleStresses};
 
 /// Output values in table order.
 #[derive(Debug, Clone)]
 pub struct Outputs(Vec<f64>);
 
 impl Outputs {
-    pub fn compute(mesh: &Mesh2d, props: &PlaneProperties, u: &[f64], press: f64) -> Self {
+    pub fn compute(
+        mesh: &Mesh2d,
+        props: &PlaneProperties,
+        stresses: &TriangleStresses,
+        u: &[f64],
+        press: f64,
+    ) -> Self {
         let mut out = Vec::with_capacity(13);
         // Pelvic-floor line elements (region 2).
         let axial = stress::line_stresses(mesh, props, u);
@@ -31,7 +37,8 @@ impl Outputs {
             .get("pelvic_floor")
             .expect("mesher adds it");
         let on_floor = |n: &usize| floor.binary_search(n).is_ok();
-        let vm: Vec<f64> = stress::triangle_stresses(mesh, props, u)
+        let vm: Vec<f64> = stresses
+            .all(mesh, u)
             .iter()
             .map(|s| s.von_mises())
             .collect();
