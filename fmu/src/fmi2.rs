@@ -6,6 +6,7 @@
 use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
+use crate::ffi::{guard, slice, slice_mut, text};
 use crate::instance::{Call, Instance, Layout, Log, Status};
 
 pub type fmi2Component = *mut c_void;
@@ -42,74 +43,6 @@ pub struct fmi2CallbackFunctions {
 const FMI2_CO_SIMULATION: c_int = 1;
 static TYPES_PLATFORM: &CStr = c"default";
 static VERSION: &CStr = c"2.0";
-
-/// Reads a C string; `None` for null or invalid UTF-8.
-unsafe fn text(p: fmi2String) -> Option<String> {
-    if p.is_null() {
-        return None;
-    }
-    unsafe { CStr::from_ptr(p) }
-        .to_str()
-        .ok()
-        .map(str::to_string)
-}
-
-/// A slice from a C array; `None` if the pointer is null while `n > 0`.
-unsafe fn slice<'a, T>(p: *const T, n: usize) -> Option<&'a [T]> {
-    match (p.is_null(), n) {
-        (_, 0) => Some(&[]),
-        (true, _) => None,
-        (false, _) => Some(unsafe { std::slice::from_raw_parts(p, n) }),
-    }
-}
-
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]> {
-    match (p.is_null(), n) {
-        (_, 0) => Some(&mut []),
-        (true, _) => None,
-        (false, _) => Some(unsafe { std::slice::from_raw_parts_mut(p, n) }),
-    }
-}
-
-/// Runs `f` on the instance behind `c` inside a panic guard.
-fn with(
-    c: fmi2Component,
-    call: Option<(Call, &str)>,
-    f: impl FnOnce(&mut Instance) -> Status,
-) -> fmi2Status {
-    if c.is_null() {
-        return Status::Error as fmi2Status;
-    }
-    // SAFETY: a non-null component is a pointer returned by fmi2Instantiate and not yet
-    // freed (the importer's obligation under the standard).
-    let instance = unsafe { &mut *(c as *mut Instance) };
-    let result = catch_unwind(AssertUnwindSafe(|| {
-        if let Some((call, name)) = call {
-            if let Err(s) = instance.check(call, name) {
-                return s;
-            }
-        }
-        f(instance)
-    }));
-    match result {
-        Ok(s) => s as fmi2Status,
-        Err(panic) => {
-            let what = panic
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| panic.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "unknown panic".into());
-            let _ = catch_unwind(AssertUnwindSafe(|| {
-                instance.poison();
-                instance.error(
-                    Status::Error,
-                    &format!("internal error (panic caught at the FMI boundary): {what}"),
-                )
-            }));
-            Status::Error as fmi2Status
-        }
-    }
-}
 
 /// A logger closure over the importer's callback.
 fn logger(functions: *const fmi2CallbackFunctions, name: &str) -> Log {
@@ -171,27 +104,15 @@ pub unsafe extern "C" fn fmi2Instantiate(
             );
             return std::ptr::null_mut();
         }
-        let Some(guid) = (unsafe { text(fmuGUID) }) else {
-            log(Status::Error, "logStatusError", "fmuGUID is missing");
-            return std::ptr::null_mut();
-        };
-        let resources = match unsafe { text(fmuResourceLocation) } {
-            Some(loc) if !loc.is_empty() => match crate::uri::resource_dir(&loc) {
-                Ok(dir) => Some(dir),
-                Err(m) => {
-                    log(Status::Error, "logStatusError", &m);
-                    return std::ptr::null_mut();
-                }
-            },
-            _ => None,
-        };
-        match Instance::new(&guid, &name, resources, log, loggingOn != 0) {
-            Ok(instance) => Box::into_raw(Box::new(instance)) as fmi2Component,
-            Err(m) => {
-                logger(functions, &name)(Status::Error, "logStatusError", &m);
-                std::ptr::null_mut()
-            }
-        }
+        let guid = unsafe { text(fmuGUID) };
+        let location = unsafe { text(fmuResourceLocation) };
+        Instance::into_handle(Instance::create(
+            guid.as_deref(),
+            &name,
+            location.as_deref(),
+            log,
+            loggingOn != 0,
+        ))
     }));
     result.unwrap_or(std::ptr::null_mut())
 }
@@ -214,7 +135,7 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     n: usize,
     categories: *const fmi2String,
 ) -> fmi2Status {
-    with(
+    guard(
         c,
         Some((Call::SetDebugLogging, "fmi2SetDebugLogging")),
         |i| {
@@ -241,7 +162,7 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
     _stopTimeDefined: fmi2Boolean,
     _stopTime: fmi2Real,
 ) -> fmi2Status {
-    with(
+    guard(
         c,
         Some((Call::SetupExperiment, "fmi2SetupExperiment")),
         |i| i.setup_experiment(startTime),
@@ -252,7 +173,7 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
 /// FMI 2.0 contract.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status {
-    with(
+    guard(
         c,
         Some((Call::EnterInitialization, "fmi2EnterInitializationMode")),
         Instance::enter_initialization,
@@ -263,7 +184,7 @@ pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2St
 /// FMI 2.0 contract.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
-    with(
+    guard(
         c,
         Some((Call::ExitInitialization, "fmi2ExitInitializationMode")),
         Instance::exit_initialization,
@@ -274,7 +195,7 @@ pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Sta
 /// FMI 2.0 contract.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
-    with(
+    guard(
         c,
         Some((Call::Terminate, "fmi2Terminate")),
         Instance::terminate,
@@ -285,7 +206,7 @@ pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
 /// FMI 2.0 contract.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
-    with(c, Some((Call::Reset, "fmi2Reset")), Instance::reset)
+    guard(c, Some((Call::Reset, "fmi2Reset")), Instance::reset)
 }
 
 /// # Safety
@@ -297,7 +218,7 @@ pub unsafe extern "C" fn fmi2GetReal(
     n: usize,
     value: *mut fmi2Real,
 ) -> fmi2Status {
-    with(c, Some((Call::Get, "fmi2GetReal")), |i| {
+    guard(c, Some((Call::Get, "fmi2GetReal")), |i| {
         match unsafe { (slice(vr, n), slice_mut(value, n)) } {
             (Some(vr), Some(value)) => i.get_reals(Layout::Scalars, vr, value),
             _ => i.error(Status::Error, "fmi2GetReal: null array"),
@@ -314,7 +235,7 @@ pub unsafe extern "C" fn fmi2SetReal(
     n: usize,
     value: *const fmi2Real,
 ) -> fmi2Status {
-    with(c, Some((Call::Set, "fmi2SetReal")), |i| {
+    guard(c, Some((Call::Set, "fmi2SetReal")), |i| {
         match unsafe { (slice(vr, n), slice(value, n)) } {
             (Some(vr), Some(value)) => i.set_reals(Layout::Scalars, vr, value),
             _ => i.error(Status::Error, "fmi2SetReal: null array"),
@@ -331,7 +252,7 @@ pub unsafe extern "C" fn fmi2GetString(
     n: usize,
     value: *mut fmi2String,
 ) -> fmi2Status {
-    with(c, Some((Call::Get, "fmi2GetString")), |i| {
+    guard(c, Some((Call::Get, "fmi2GetString")), |i| {
         let (Some(vr), Some(value)) = (unsafe { slice(vr, n) }, unsafe { slice_mut(value, n) })
         else {
             return i.error(Status::Error, "fmi2GetString: null array");
@@ -357,7 +278,7 @@ pub unsafe extern "C" fn fmi2SetString(
     n: usize,
     value: *const fmi2String,
 ) -> fmi2Status {
-    with(c, Some((Call::Set, "fmi2SetString")), |i| {
+    guard(c, Some((Call::Set, "fmi2SetString")), |i| {
         let (Some(vr), Some(value)) = (unsafe { slice(vr, n) }, unsafe { slice(value, n) }) else {
             return i.error(Status::Error, "fmi2SetString: null array");
         };
@@ -375,7 +296,7 @@ pub unsafe extern "C" fn fmi2SetString(
 /// Integer and Boolean variables do not exist in these models: zero references is fine,
 /// any reference is unknown.
 fn no_variables(c: fmi2Component, n: usize, function: &str, call: Call) -> fmi2Status {
-    with(c, Some((call, function)), |i| {
+    guard(c, Some((call, function)), |i| {
         if n == 0 {
             Status::Ok
         } else {
@@ -444,14 +365,14 @@ pub unsafe extern "C" fn fmi2DoStep(
     communicationStepSize: fmi2Real,
     _noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
 ) -> fmi2Status {
-    with(c, Some((Call::DoStep, "fmi2DoStep")), |i| {
+    guard(c, Some((Call::DoStep, "fmi2DoStep")), |i| {
         i.do_step(currentCommunicationPoint, communicationStepSize)
     })
 }
 
 /// Functions for capabilities the model description declares absent.
 fn unsupported(c: fmi2Component, function: &str) -> fmi2Status {
-    with(c, None, |i| {
+    guard(c, None, |i| {
         i.error(
             Status::Error,
             &format!("{function} is not supported (see the model description's capability flags)"),
@@ -583,7 +504,7 @@ pub unsafe extern "C" fn fmi2GetRealStatus(
     value: *mut fmi2Real,
 ) -> fmi2Status {
     // fmi2LastSuccessfulTime = 2.
-    with(c, None, |i| match (kind, unsafe { value.as_mut() }) {
+    guard(c, None, |i| match (kind, unsafe { value.as_mut() }) {
         (2, Some(v)) => {
             *v = i.time();
             Status::Ok
@@ -615,7 +536,7 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(
     value: *mut fmi2Boolean,
 ) -> fmi2Status {
     // fmi2Terminated = 3: the slave never asks to terminate.
-    with(c, None, |i| match (kind, unsafe { value.as_mut() }) {
+    guard(c, None, |i| match (kind, unsafe { value.as_mut() }) {
         (3, Some(v)) => {
             *v = 0;
             Status::Ok

@@ -9,6 +9,7 @@
 use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
+use crate::ffi::{guard, slice, slice_mut, text};
 use crate::instance::{Call, Instance, Layout, Log, Status};
 
 pub type fmi3Instance = *mut c_void;
@@ -23,62 +24,6 @@ pub type fmi3LogMessageCallback =
     Option<unsafe extern "C" fn(fmi3InstanceEnvironment, fmi3Status, fmi3String, fmi3String)>;
 
 static VERSION: &CStr = c"3.0";
-
-unsafe fn text(p: fmi3String) -> Option<String> {
-    if p.is_null() {
-        return None;
-    }
-    unsafe { CStr::from_ptr(p) }
-        .to_str()
-        .ok()
-        .map(str::to_string)
-}
-
-unsafe fn slice<'a, T>(p: *const T, n: usize) -> Option<&'a [T]> {
-    match (p.is_null(), n) {
-        (_, 0) => Some(&[]),
-        (true, _) => None,
-        (false, _) => Some(unsafe { std::slice::from_raw_parts(p, n) }),
-    }
-}
-
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]> {
-    match (p.is_null(), n) {
-        (_, 0) => Some(&mut []),
-        (true, _) => None,
-        (false, _) => Some(unsafe { std::slice::from_raw_parts_mut(p, n) }),
-    }
-}
-
-fn with(
-    c: fmi3Instance,
-    call: Option<(Call, &str)>,
-    f: impl FnOnce(&mut Instance) -> Status,
-) -> fmi3Status {
-    if c.is_null() {
-        return Status::Error as fmi3Status;
-    }
-    // SAFETY: a non-null instance comes from fmi3InstantiateCoSimulation and is not freed.
-    let instance = unsafe { &mut *(c as *mut Instance) };
-    let result = catch_unwind(AssertUnwindSafe(|| {
-        if let Some((call, name)) = call {
-            if let Err(s) = instance.check(call, name) {
-                return s;
-            }
-        }
-        f(instance)
-    }));
-    result.unwrap_or_else(|_| {
-        let _ = catch_unwind(AssertUnwindSafe(|| {
-            instance.poison();
-            instance.error(
-                Status::Error,
-                "internal error (panic caught at the FMI boundary)",
-            )
-        }));
-        Status::Error
-    }) as fmi3Status
-}
 
 fn logger(callback: fmi3LogMessageCallback, env: fmi3InstanceEnvironment) -> Log {
     let env = env as usize;
@@ -124,31 +69,15 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     catch_unwind(AssertUnwindSafe(|| {
         let name = unsafe { text(instanceName) }.unwrap_or_else(|| "tissuefmu".into());
         let log = logger(logMessage, instanceEnvironment);
-        let Some(token) = (unsafe { text(instantiationToken) }) else {
-            log(
-                Status::Error,
-                "logStatusError",
-                "instantiationToken is missing",
-            );
-            return std::ptr::null_mut();
-        };
-        let resources = match unsafe { text(resourcePath) } {
-            Some(p) if !p.is_empty() => match crate::uri::resource_dir(&p) {
-                Ok(dir) => Some(dir),
-                Err(m) => {
-                    log(Status::Error, "logStatusError", &m);
-                    return std::ptr::null_mut();
-                }
-            },
-            _ => None,
-        };
-        match Instance::new(&token, &name, resources, log, loggingOn) {
-            Ok(i) => Box::into_raw(Box::new(i)) as fmi3Instance,
-            Err(m) => {
-                logger(logMessage, instanceEnvironment)(Status::Error, "logStatusError", &m);
-                std::ptr::null_mut()
-            }
-        }
+        let token = unsafe { text(instantiationToken) };
+        let location = unsafe { text(resourcePath) };
+        Instance::into_handle(Instance::create(
+            token.as_deref(),
+            &name,
+            location.as_deref(),
+            log,
+            loggingOn,
+        ))
     }))
     .unwrap_or(std::ptr::null_mut())
 }
@@ -183,7 +112,7 @@ pub unsafe extern "C" fn fmi3SetDebugLogging(
     n: usize,
     categories: *const fmi3String,
 ) -> fmi3Status {
-    with(
+    guard(
         c,
         Some((Call::SetDebugLogging, "fmi3SetDebugLogging")),
         |i| {
@@ -210,7 +139,7 @@ pub unsafe extern "C" fn fmi3EnterInitializationMode(
     _stopTimeDefined: fmi3Boolean,
     _stopTime: fmi3Float64,
 ) -> fmi3Status {
-    with(
+    guard(
         c,
         Some((Call::EnterInitialization, "fmi3EnterInitializationMode")),
         |i| match i.setup_experiment(startTime) {
@@ -224,7 +153,7 @@ pub unsafe extern "C" fn fmi3EnterInitializationMode(
 /// FMI 3.0 contract.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3ExitInitializationMode(c: fmi3Instance) -> fmi3Status {
-    with(
+    guard(
         c,
         Some((Call::ExitInitialization, "fmi3ExitInitializationMode")),
         Instance::exit_initialization,
@@ -237,14 +166,14 @@ pub unsafe extern "C" fn fmi3ExitInitializationMode(c: fmi3Instance) -> fmi3Stat
 /// FMI 3.0 contract.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3EnterStepMode(c: fmi3Instance) -> fmi3Status {
-    with(c, Some((Call::DoStep, "fmi3EnterStepMode")), |_| Status::Ok)
+    guard(c, Some((Call::DoStep, "fmi3EnterStepMode")), |_| Status::Ok)
 }
 
 /// # Safety
 /// FMI 3.0 contract.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3Terminate(c: fmi3Instance) -> fmi3Status {
-    with(
+    guard(
         c,
         Some((Call::Terminate, "fmi3Terminate")),
         Instance::terminate,
@@ -255,7 +184,7 @@ pub unsafe extern "C" fn fmi3Terminate(c: fmi3Instance) -> fmi3Status {
 /// FMI 3.0 contract.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3Reset(c: fmi3Instance) -> fmi3Status {
-    with(c, Some((Call::Reset, "fmi3Reset")), Instance::reset)
+    guard(c, Some((Call::Reset, "fmi3Reset")), Instance::reset)
 }
 
 /// # Safety
@@ -268,7 +197,7 @@ pub unsafe extern "C" fn fmi3GetFloat64(
     values: *mut fmi3Float64,
     n: usize,
 ) -> fmi3Status {
-    with(c, Some((Call::Get, "fmi3GetFloat64")), |i| {
+    guard(c, Some((Call::Get, "fmi3GetFloat64")), |i| {
         match unsafe { (slice(vr, nvr), slice_mut(values, n)) } {
             (Some(vr), Some(values)) => i.get_reals(Layout::Arrays, vr, values),
             _ => i.error(Status::Error, "fmi3GetFloat64: null array"),
@@ -286,7 +215,7 @@ pub unsafe extern "C" fn fmi3SetFloat64(
     values: *const fmi3Float64,
     n: usize,
 ) -> fmi3Status {
-    with(c, Some((Call::Set, "fmi3SetFloat64")), |i| {
+    guard(c, Some((Call::Set, "fmi3SetFloat64")), |i| {
         match unsafe { (slice(vr, nvr), slice(values, n)) } {
             (Some(vr), Some(values)) => i.set_reals(Layout::Arrays, vr, values),
             _ => i.error(Status::Error, "fmi3SetFloat64: null array"),
@@ -304,7 +233,7 @@ pub unsafe extern "C" fn fmi3GetString(
     values: *mut fmi3String,
     n: usize,
 ) -> fmi3Status {
-    with(c, Some((Call::Get, "fmi3GetString")), |i| {
+    guard(c, Some((Call::Get, "fmi3GetString")), |i| {
         let (Some(vr), Some(values)) = (unsafe { slice(vr, nvr) }, unsafe { slice_mut(values, n) })
         else {
             return i.error(Status::Error, "fmi3GetString: null array");
@@ -337,7 +266,7 @@ pub unsafe extern "C" fn fmi3SetString(
     values: *const fmi3String,
     n: usize,
 ) -> fmi3Status {
-    with(c, Some((Call::Set, "fmi3SetString")), |i| {
+    guard(c, Some((Call::Set, "fmi3SetString")), |i| {
         let (Some(vr), Some(values)) = (unsafe { slice(vr, nvr) }, unsafe { slice(values, n) })
         else {
             return i.error(Status::Error, "fmi3SetString: null array");
@@ -372,7 +301,7 @@ pub unsafe extern "C" fn fmi3DoStep(
     earlyReturn: *mut fmi3Boolean,
     lastSuccessfulTime: *mut fmi3Float64,
 ) -> fmi3Status {
-    with(c, Some((Call::DoStep, "fmi3DoStep")), |i| {
+    guard(c, Some((Call::DoStep, "fmi3DoStep")), |i| {
         let status = i.do_step(currentCommunicationPoint, communicationStepSize);
         // SAFETY: the importer passes valid out-pointers (null ones are skipped).
         unsafe {
@@ -401,7 +330,7 @@ macro_rules! unsupported {
         /// FMI 3.0 contract.
         #[unsafe(no_mangle)]
         pub unsafe extern "C" fn $name(c: fmi3Instance) -> fmi3Status {
-            with(c, None, |i| i.error(Status::Error, concat!(stringify!($name), " is not supported by this FMU")))
+            guard(c, None, |i| i.error(Status::Error, concat!(stringify!($name), " is not supported by this FMU")))
         }
     )*};
 }

@@ -120,22 +120,41 @@ pub struct Instance {
 }
 
 impl Instance {
-    /// Creates the scene named by `token`; `resources` is the resource folder if known.
-    pub fn new(
-        token: &str,
+    /// Creates the scene named by `token` (FMI 2 GUID / FMI 3 instantiation token), with
+    /// resources at `location` (any of the forms [`crate::uri::resource_dir`] accepts). On
+    /// failure the reason goes to `log` and the result is `None`.
+    pub fn create(
+        token: Option<&str>,
         name: &str,
-        resources: Option<PathBuf>,
+        location: Option<&str>,
         log: Log,
         log_calls: bool,
-    ) -> Result<Self, String> {
-        let model = Model::by_token(token).ok_or_else(|| {
-            format!("instantiation token / GUID `{token}` matches no model in this binary (is the modelDescription.xml from another build?)")
-        })?;
+    ) -> Option<Self> {
+        let fail = |m: &str| {
+            log(Status::Error, "logStatusError", m);
+            None
+        };
+        let Some(token) = token else {
+            return fail("the instantiation token / GUID is missing");
+        };
+        let Some(model) = Model::by_token(token) else {
+            return fail(&format!(
+                "instantiation token / GUID `{token}` matches no model in this binary (is the modelDescription.xml from another build?)"
+            ));
+        };
+        let resources = match location
+            .filter(|l| !l.is_empty())
+            .map(crate::uri::resource_dir)
+        {
+            None => None,
+            Some(Ok(dir)) => Some(dir),
+            Some(Err(m)) => return fail(&m),
+        };
         let mut scene = (model.create)();
         if let Some(dir) = &resources {
             scene.set_resource_dir(dir);
         }
-        Ok(Self {
+        Some(Self {
             name: name.to_string(),
             scalars: fmi2_scalars(scene.variables()),
             model,
@@ -147,6 +166,13 @@ impl Instance {
             log_calls,
             buffer: Vec::new(),
             strings: Vec::new(),
+        })
+    }
+
+    /// A heap-allocated instance as the opaque handle the C ABI hands out, or null.
+    pub fn into_handle(instance: Option<Self>) -> *mut std::ffi::c_void {
+        instance.map_or(std::ptr::null_mut(), |i| {
+            Box::into_raw(Box::new(i)) as *mut std::ffi::c_void
         })
     }
 
@@ -434,7 +460,7 @@ mod tests {
         let log: Log = Box::new(move |s, c, m| sink.lock().unwrap().push((s, c.into(), m.into())));
         let token = crate::model::MODELS[1].token();
         (
-            Instance::new(&token, "t", None, log, log_calls).unwrap(),
+            Instance::create(Some(&token), "t", None, log, log_calls).unwrap(),
             lines,
         )
     }

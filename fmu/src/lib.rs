@@ -4,6 +4,7 @@
 //! bundler that writes the `.fmu` archives ([`bundle`]).
 
 pub mod bundle;
+mod ffi;
 pub mod fmi2;
 pub mod fmi3;
 pub mod instance;
