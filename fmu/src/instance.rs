@@ -328,7 +328,17 @@ impl Instance {
             .collect()
     }
 
-    fn count(&self, refs: &[(u32, usize, usize)], n_values: usize) -> Result<(), Status> {
+    /// Resolved references whose value counts add up to `n_values`; logs and returns Error
+    /// otherwise.
+    fn references(
+        &self,
+        layout: Layout,
+        vrs: &[u32],
+        n_values: usize,
+    ) -> Result<Vec<(u32, usize, usize)>, Status> {
+        let refs = self
+            .resolve(layout, vrs)
+            .map_err(|m| self.error(Status::Error, &m))?;
         let needed: usize = refs.iter().map(|r| r.2).sum();
         if needed != n_values {
             return Err(self.error(
@@ -336,18 +346,15 @@ impl Instance {
                 &format!("{n_values} values given for {needed} expected"),
             ));
         }
-        Ok(())
+        Ok(refs)
     }
 
     /// Sets real values.
     pub fn set_reals(&mut self, layout: Layout, vrs: &[u32], values: &[f64]) -> Status {
-        let refs = match self.resolve(layout, vrs) {
+        let refs = match self.references(layout, vrs, values.len()) {
             Ok(r) => r,
-            Err(m) => return self.error(Status::Error, &m),
+            Err(s) => return s,
         };
-        if let Err(s) = self.count(&refs, values.len()) {
-            return s;
-        }
         let mut at = 0;
         for (vr, index, n) in refs {
             if vr == time_vr(self.scene.variables()) {
@@ -378,13 +385,10 @@ impl Instance {
 
     /// Gets real values (outputs are computed on the first request after a step).
     pub fn get_reals(&mut self, layout: Layout, vrs: &[u32], values: &mut [f64]) -> Status {
-        let refs = match self.resolve(layout, vrs) {
+        let refs = match self.references(layout, vrs, values.len()) {
             Ok(r) => r,
-            Err(m) => return self.error(Status::Error, &m),
+            Err(s) => return s,
         };
-        if let Err(s) = self.count(&refs, values.len()) {
-            return s;
-        }
         let mut at = 0;
         for (vr, index, n) in refs {
             if vr == time_vr(self.scene.variables()) {
