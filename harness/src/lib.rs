@@ -1,0 +1,3 @@
+//! tissuefmu harness library: what the command-line front end runs.
+
+pub mod identify;
