@@ -35,6 +35,9 @@ use crate::mesh::Mesh3d;
 /// Penalty stiffness per (E · h).
 pub const PENALTY_FACTOR: f64 = 1000.0;
 
+/// Tree degradation (see `Bvh::degradation`) beyond which the flank tree is rebuilt.
+pub const REBUILD_DEGRADATION: f64 = 1.5;
+
 /// Release gap of a held node per h.
 pub const RELEASE_FACTOR: f64 = 0.01;
 
@@ -133,6 +136,10 @@ impl FlankContact {
     pub fn detect(&mut self, mesh: &Mesh3d, u: &[f64]) -> Vec<Spring> {
         let positions = self.surface.positions(mesh.nodes(), Some(u), 3);
         self.bvh.refit(&self.surface, &positions, self.tolerance);
+        if self.bvh.degradation() > REBUILD_DEGRADATION {
+            self.bvh = Bvh::build(&self.surface, &positions, BvKind::Aabb);
+            self.bvh.refit(&self.surface, &positions, self.tolerance);
+        }
         let (pairs, _) = Search::run(&self.surface, &self.bvh, &positions, self.tolerance);
         // One spring per penetrating node: against the facet it lies deepest behind.
         let mut best: HashMap<usize, (f64, Spring)> = HashMap::new();
