@@ -1,0 +1,266 @@
+//! Speed versus error for the abdomen scene: for each mesh size, integrator and time step,
+//! the set-up time, the time per step and the error of the pelvic-floor stress history
+//! against a converged reference (finest mesh, smallest step, Houbolt); and a stability table
+//! of what each integrator does on the hard cases. Results go to a CSV written atomically.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use models::scene::abdomen::Abdomen;
+use models::scene::Scene;
+
+/// One measured case.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Case {
+    pub triangles: usize,
+    pub integrator: String,
+    pub dt: f64,
+    pub setup_ms: f64,
+    pub step_ms: f64,
+    /// Max over the run of |σ_floor,max − reference| / max |reference|.
+    pub error: f64,
+}
+
+/// The study: mesh targets, integrators, steps, simulated time.
+#[derive(Debug, Clone)]
+pub struct Study {
+    pub meshes: Vec<usize>,
+    pub integrators: Vec<&'static str>,
+    pub steps: Vec<f64>,
+    pub duration: f64,
+    /// Reference: mesh target and step (Houbolt).
+    pub reference: (usize, f64),
+}
+
+impl Default for Study {
+    fn default() -> Self {
+        Self {
+            meshes: vec![1500, 6000],
+            integrators: vec!["houbolt", "newmark"],
+            steps: vec![1e-3, 2e-3, 5e-3, 1e-2],
+            duration: 0.5,
+            reference: (12000, 2.5e-4),
+        }
+    }
+}
+
+/// Samples of `floor_stress_max` every 10 ms over `duration`, with set-up and mean step time.
+fn run(
+    triangles: usize,
+    integrator: &str,
+    dt: f64,
+    duration: f64,
+) -> Result<(Vec<f64>, f64, f64, usize)> {
+    let start = Instant::now();
+    let mut s = Abdomen::new();
+    s.set("target_triangles", triangles as f64)?;
+    s.set("max_step", dt)?;
+    s.set_str("integrator", integrator)?;
+    s.initialize()?;
+    let setup = start.elapsed().as_secs_f64() * 1e3;
+    let n_tri = s.meshed().map_or(0, |m| m.mesh.triangles().len());
+    let vr = s.lookup("floor_stress_max")?;
+    let sample = 1e-2;
+    let (mut samples, mut stepping) = (Vec::new(), 0.0);
+    let mut x = [0.0];
+    let n = (duration / sample).round() as usize;
+    for k in 0..n {
+        let t0 = Instant::now();
+        s.do_step(k as f64 * sample, sample)?;
+        stepping += t0.elapsed().as_secs_f64();
+        s.get_real(vr, &mut x)?;
+        samples.push(x[0]);
+    }
+    let steps = (duration / dt).round().max(1.0);
+    Ok((samples, setup, stepping * 1e3 / steps, n_tri))
+}
+
+/// Runs the study.
+pub fn measure(study: &Study) -> Result<Vec<Case>> {
+    let (reference, _, _, _) = run(
+        study.reference.0,
+        "houbolt",
+        study.reference.1,
+        study.duration,
+    )?;
+    let scale = reference
+        .iter()
+        .fold(0.0f64, |a, b| a.max(b.abs()))
+        .max(1e-300);
+    let mut cases = Vec::new();
+    for &mesh in &study.meshes {
+        for &integrator in &study.integrators {
+            for &dt in &study.steps {
+                let (samples, setup_ms, step_ms, triangles) =
+                    run(mesh, integrator, dt, study.duration)?;
+                let error = samples
+                    .iter()
+                    .zip(&reference)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max)
+                    / scale;
+                cases.push(Case {
+                    triangles,
+                    integrator: integrator.to_string(),
+                    dt,
+                    setup_ms,
+                    step_ms,
+                    error,
+                });
+            }
+        }
+    }
+    Ok(cases)
+}
+
+/// What an integrator did on a hard case.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stability {
+    pub case: &'static str,
+    pub integrator: &'static str,
+    pub outcome: String,
+}
+
+/// A hard case: label, parameter settings, step.
+type HardCase = (&'static str, &'static [(&'static str, f64)], f64);
+
+/// Runs each integrator on the hard cases for 0.1 s at a small mesh and says what happened:
+/// "bounded (peak |u| …)", or the error the scene reported.
+pub fn stability() -> Vec<Stability> {
+    let cases: [HardCase; 4] = [
+        ("ν = 0.499", &[("cavity_nu", 0.499)], 1e-3),
+        (
+            "line elements 1e6 × stiffer",
+            &[("wall_E", 5e3), ("diaphragm_E", 5e3), ("floor_E", 5e3)],
+            1e-3,
+        ),
+        ("huge dt (0.1 s)", &[], 0.1),
+        ("dt = 1 ms (above explicit limits)", &[], 1e-3),
+    ];
+    let mut out = Vec::new();
+    for (case, settings, dt) in cases {
+        for integrator in ["houbolt", "newmark", "central_difference", "rk4"] {
+            let outcome = (|| -> Result<String> {
+                let mut s = Abdomen::new();
+                s.set("target_triangles", 800.0)?;
+                s.set("max_step", dt)?;
+                s.set_str("integrator", integrator)?;
+                for (k, v) in settings {
+                    s.set(k, *v)?;
+                }
+                s.initialize()?;
+                let mut peak: f64 = 0.0;
+                let steps = ((0.1 / dt).round() as usize).max(1);
+                for k in 0..steps {
+                    s.do_step(k as f64 * dt, dt)?;
+                    peak = peak.max(
+                        s.field()
+                            .map_or(0.0, |f| f.2.iter().fold(0.0f64, |a, b| a.max(b.abs()))),
+                    );
+                }
+                Ok(format!("bounded (peak |u| {peak:.3e} mm)"))
+            })()
+            .unwrap_or_else(|e| {
+                format!(
+                    "refused: {}",
+                    e.to_string().split(';').next().unwrap_or_default()
+                )
+            });
+            out.push(Stability {
+                case,
+                integrator,
+                outcome,
+            });
+        }
+    }
+    out
+}
+
+/// Writes the cases as CSV to `path` through a temporary file renamed into place.
+pub fn write_csv(cases: &[Case], path: &Path) -> Result<PathBuf> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let partial = path.with_extension("csv.partial");
+    {
+        let mut f = std::fs::File::create(&partial)
+            .with_context(|| format!("creating {}", partial.display()))?;
+        writeln!(
+            f,
+            "triangles,integrator,dt_s,setup_ms,step_ms,relative_error"
+        )?;
+        for c in cases {
+            writeln!(
+                f,
+                "{},{},{:e},{:.3},{:.4},{:.4e}",
+                c.triangles, c.integrator, c.dt, c.setup_ms, c.step_ms, c.error
+            )?;
+        }
+    }
+    std::fs::rename(&partial, path).with_context(|| format!("renaming into {}", path.display()))?;
+    Ok(path.to_path_buf())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn error_falls_with_the_step_and_the_csv_is_complete() {
+        let study = Study {
+            meshes: vec![600],
+            integrators: vec!["houbolt", "newmark"],
+            steps: vec![2e-3, 1e-2],
+            duration: 0.2,
+            reference: (600, 2.5e-4),
+        };
+        let cases = measure(&study).unwrap();
+        assert_eq!(cases.len(), 4);
+        for pair in cases.chunks(2) {
+            println!("{pair:?}");
+            // Same mesh as the reference: what remains is the time-step error, smaller at 2 ms.
+            assert!(pair[0].error < pair[1].error, "{pair:?}");
+            assert!(pair.iter().all(|c| c.step_ms > 0.0 && c.error.is_finite()));
+        }
+        let dir = std::env::temp_dir().join(format!("speed-error-{}", std::process::id()));
+        let path = write_csv(&cases, &dir.join("speed_error.csv")).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(text.lines().count(), 5);
+        assert!(!dir.join("speed_error.csv.partial").exists());
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn explicit_schemes_above_their_limit_are_refused_and_implicit_ones_stay_bounded() {
+        let table = stability();
+        let outcome = |case: &str, integ: &str| {
+            table
+                .iter()
+                .find(|s| s.case == case && s.integrator == integ)
+                .unwrap()
+                .outcome
+                .clone()
+        };
+        for integ in ["central_difference", "rk4"] {
+            let o = outcome("dt = 1 ms (above explicit limits)", integ);
+            assert!(
+                o.starts_with("refused") && o.contains("unstable"),
+                "{integ}: {o}"
+            );
+        }
+        for integ in ["houbolt", "newmark"] {
+            for case in [
+                "ν = 0.499",
+                "line elements 1e6 × stiffer",
+                "huge dt (0.1 s)",
+            ] {
+                assert!(
+                    outcome(case, integ).starts_with("bounded"),
+                    "{integ} {case}"
+                );
+            }
+        }
+    }
+}
