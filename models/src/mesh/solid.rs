@@ -128,18 +128,6 @@ impl Mesh3d {
         let t = self.tets[i];
         std::array::from_fn(|k| 3 * t[k / 3] + k % 3)
     }
-
-    /// Boundary faces whose three nodes all belong to node set `name`.
-    pub fn faces_in_set(&self, name: &str) -> Result<Vec<[usize; 3]>, ModelError> {
-        let set = self.node_sets.get(name)?;
-        let inside = |n: &usize| set.binary_search(n).is_ok();
-        Ok(self
-            .boundary
-            .iter()
-            .filter(|f| f.nodes.iter().all(inside))
-            .map(|f| f.nodes)
-            .collect())
-    }
 }
 
 #[cfg(test)]

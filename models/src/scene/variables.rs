@@ -212,11 +212,6 @@ impl Values {
         self.initialized = true;
     }
 
-    /// Back to the start values (FMI reset).
-    pub fn reset(&mut self) {
-        *self = Self::new(std::mem::take(&mut self.table));
-    }
-
     fn settable(&self, v: &Variable, kind: VariableKind) -> Result<(), SceneError> {
         if v.kind != kind {
             return Err(SceneError::WrongKind {
@@ -372,8 +367,5 @@ mod tests {
             Err(SceneError::NotSettable { .. })
         ));
         v.set_real(0, &[3.0]).unwrap();
-        v.reset();
-        assert_eq!(v.real(0), 1.0);
-        v.set_real(1, &[5.0]).unwrap();
     }
 }

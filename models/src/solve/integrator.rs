@@ -38,17 +38,6 @@ impl State {
             dst.extend_from_slice(src);
         }
     }
-
-    /// A state of `n` dofs at rest at time zero.
-    pub fn at_rest(n: usize) -> Self {
-        Self {
-            t: 0.0,
-            u: vec![0.0; n],
-            v: vec![0.0; n],
-            a: vec![0.0; n],
-            steps: 0,
-        }
-    }
 }
 
 /// The selectable integrators.

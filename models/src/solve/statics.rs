@@ -35,11 +35,6 @@ impl Statics {
         &self.bc
     }
 
-    /// The Cholesky factorization (for its statistics).
-    pub fn cholesky(&self) -> &Cholesky {
-        &self.chol
-    }
-
     /// Numeric factorization of K_ff for the full stiffness values `k_full`.
     pub fn factorize(&mut self, k_full: &[f64]) -> Result<(), ModelError> {
         self.bc.combine(&[(1.0, k_full)], &mut self.reduced);

@@ -131,9 +131,6 @@ impl Structure {
     pub fn dirichlet(&self) -> &Dirichlet {
         &self.bc
     }
-    pub fn layout(&self) -> Layout {
-        self.layout
-    }
     pub fn stiffness(&self) -> SparseColMatRef<'_, usize, f64> {
         self.bc.matrix(&self.k)
     }

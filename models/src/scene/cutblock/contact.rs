@@ -41,12 +41,11 @@ pub const REBUILD_DEGRADATION: f64 = 1.5;
 /// Release gap of a held node per h.
 pub const RELEASE_FACTOR: f64 = 0.01;
 
-/// One active contact: element index in the assembler, B vector, g₀.
+/// One active contact: element index in the assembler, the held node, B vector, g₀.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Spring {
     pub element: usize,
     pub node: usize,
-    pub facet: usize,
     pub b: SVector<f64, 12>,
     pub g0: f64,
 }
@@ -160,7 +159,6 @@ impl FlankContact {
                         let spring = Spring {
                             element,
                             node,
-                            facet: master,
                             b,
                             g0,
                         };
