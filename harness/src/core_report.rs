@@ -3,9 +3,9 @@
 use std::time::{Duration, Instant};
 
 use anyhow::Result;
-use models::assembly::{plane, solid, Dirichlet};
+use models::assembly::{plane, solid};
 use models::element::Elastic;
-use models::solve::{Damping, IntegratorKind, Layout, Statics, Structure};
+use models::solve::{Damping, IntegratorKind, Layout, Statics};
 use models::verify::{lame::Lame, oscillator, problems};
 
 /// Prints the three tables.
@@ -100,12 +100,8 @@ fn timings() -> Result<()> {
         "stiffness assembly (pattern reused)",
         median(30, || plane::stiffness(&p.mesh, &a.asm, &p.props, &mut k)),
     );
-    let bc = Dirichlet::new(&a.asm, &p.fixed)?;
-    let s = Structure::new(
-        bc,
-        &a.k,
-        &a.m,
-        &a.lumped,
+    let s = a.structure(
+        &p.fixed,
         Damping {
             alpha: 1.0,
             beta: 1e-4,

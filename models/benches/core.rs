@@ -28,12 +28,8 @@ static BLOCK: LazyLock<(BlockProblem, Assembled)> = LazyLock::new(|| {
 
 fn plane_structure(layout: Layout) -> Structure {
     let (p, a) = &*PLANE;
-    let bc = Dirichlet::new(&a.asm, &p.fixed).unwrap();
-    Structure::new(
-        bc,
-        &a.k,
-        &a.m,
-        &a.lumped,
+    a.structure(
+        &p.fixed,
         Damping {
             alpha: 1.0,
             beta: 1e-4,

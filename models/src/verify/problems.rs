@@ -3,10 +3,11 @@
 //! 6 × 16 × 14 cubes × 5 tetrahedra (seed 002 §3.1), both with soft-tissue properties.
 
 use crate::assembly::plane::{self, Continuum, PlaneProperties, Truss};
-use crate::assembly::{solid, Assembler};
+use crate::assembly::{solid, Assembler, Dirichlet};
 use crate::element::Elastic;
 use crate::error::ModelError;
 use crate::mesh::{generate, Mesh2d, Mesh3d};
+use crate::solve::{Damping, Layout, Structure};
 
 /// A 2D problem: mesh, properties, constrained dofs.
 #[derive(Debug, Clone)]
@@ -23,6 +24,19 @@ pub struct Assembled {
     pub k: Vec<f64>,
     pub m: Vec<f64>,
     pub lumped: Vec<f64>,
+}
+
+impl Assembled {
+    /// The dynamic system on the free dofs (all but `fixed`).
+    pub fn structure(
+        &self,
+        fixed: &[usize],
+        damping: Damping,
+        layout: Layout,
+    ) -> Result<Structure, ModelError> {
+        let bc = Dirichlet::new(&self.asm, fixed)?;
+        Structure::new(bc, &self.k, &self.m, &self.lumped, damping, layout)
+    }
 }
 
 impl PlaneProblem {
