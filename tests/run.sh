@@ -12,20 +12,20 @@ fi
 
 echo "== cargo fmt --check"
 cargo fmt --all -- --check
-echo "== cargo clippy (all targets, warnings are errors)"
-cargo clippy --workspace --all-targets --release -- -D warnings
 if ! ldconfig -p 2>/dev/null | grep -q 'libclang[-.0-9]*\.so'; then
-    echo "== installing libclang (bindgen in the fmi crate, the importer the tests use, needs it)"
+    echo "== installing libclang (bindgen in the fmi crate, the importer the tests and the harness's FMU backend use, needs it)"
     export DEBIAN_FRONTEND=noninteractive
     apt-get update -qq && apt-get install -y -qq libclang-dev >/dev/null
 fi
+echo "== cargo clippy (all targets and features, warnings are errors)"
+cargo clippy --workspace --all-targets --all-features --release -- -D warnings
 
 echo "== build and bundle the FMUs (the import tests load them)"
 cargo build --release -p fmu
 ./target/release/bundle
 
-echo "== Rust tests (release)"
-cargo test --workspace --release
+echo "== Rust tests (release, with the harness's FMU backend)"
+cargo test --workspace --all-features --release
 
 echo "== Python environment (fmpy, pytest)"
 if [ ! -x .venv/bin/python ]; then

@@ -1,6 +1,7 @@
 //! The abdomen report: mesh quality, the seed-003 findings with numbers, mesh convergence,
 //! timings.
 
+use std::fmt::Write as _;
 use std::time::Instant;
 
 use anyhow::Result;
@@ -31,17 +32,19 @@ fn floor_peaks(s: &mut Abdomen) -> Result<[f64; 2]> {
 }
 
 /// Prints the report.
-pub fn run() -> Result<()> {
-    println!("5. Abdomen (seed 003 §5.4): default pressing 0.8 N/mm at 0.5 Hz on the diaphragm, Houbolt, dt = 1 ms");
+pub fn run(out: &mut String) -> Result<()> {
+    writeln!(
+        out,"5. Abdomen (seed 003 §5.4): default pressing 0.8 N/mm at 0.5 Hz on the diaphragm, Houbolt, dt = 1 ms")?;
     let mut s = scene(&[], &[])?;
     if let Some(m) = s.meshed() {
-        println!(
+        writeln!(
+            out,
             "   default mesh: {} triangles, {} line elements, {} nodes; smallest angle {:.1}°",
             m.mesh.triangles().len(),
             m.mesh.lines().len(),
             m.mesh.nodes().len(),
             m.min_angle
-        );
+        )?;
         let bins: Vec<String> = m
             .angle_histogram
             .iter()
@@ -49,13 +52,16 @@ pub fn run() -> Result<()> {
             .filter(|(_, &c)| c > 0)
             .map(|(i, c)| format!("{}–{}°: {c}", 5 * i, 5 * i + 5))
             .collect();
-        println!("   triangles by smallest angle: {}", bins.join(", "));
+        writeln!(out, "   triangles by smallest angle: {}", bins.join(", "))?;
     }
-    println!("   peak pelvic-floor stress over the first second (MPa):");
-    println!("   {:<28} {:>10} {:>10}", "case", "mean", "max");
-    let row = |label: &str, s: &mut Abdomen| -> Result<()> {
+    writeln!(
+        out,
+        "   peak pelvic-floor stress over the first second (MPa):"
+    )?;
+    writeln!(out, "   {:<28} {:>10} {:>10}", "case", "mean", "max")?;
+    let mut row = |label: &str, s: &mut Abdomen| -> Result<()> {
         let p = floor_peaks(s)?;
-        println!("   {label:<28} {:>10.5} {:>10.5}", p[0], p[1]);
+        writeln!(out, "   {label:<28} {:>10.5} {:>10.5}", p[0], p[1])?;
         Ok(())
     };
     for cfg in ["narrow", "normal", "wide", "lordotic", "tilted"] {
@@ -72,18 +78,22 @@ pub fn run() -> Result<()> {
         "abdominal wall fixed",
         &mut scene(&[("abdominal_wall", "fixed")], &[])?,
     )?;
-    println!();
+    writeln!(out)?;
 
-    println!("   static pelvic-floor stress under 0.8 N/mm vs mesh size:");
+    writeln!(
+        out,
+        "   static pelvic-floor stress under 0.8 N/mm vs mesh size:"
+    )?;
     for n in [1500.0, 6000.0, 24000.0] {
         let s = scene(&[], &[("target_triangles", n)])?;
         let u = s.static_displacement(0.8)?;
-        let out = s.evaluate(&u, 0.8)?;
+        let stress = s.evaluate(&u, 0.8)?;
         let tris = s.meshed().map_or(0, |m| m.mesh.triangles().len());
-        println!(
+        writeln!(
+            out,
             "   {tris:>6} triangles: mean {:.6} MPa, max {:.6} MPa",
-            out[0], out[1]
-        );
+            stress[0], stress[1]
+        )?;
     }
 
     let start = Instant::now();
@@ -96,9 +106,10 @@ pub fn run() -> Result<()> {
         times.push(t0.elapsed().as_secs_f64() * 1e3);
     }
     times.sort_by(f64::total_cmp);
-    println!(
+    writeln!(
+        out,
         "   timings: set-up (configuration → mesh → factorization) {setup:.1} ms, Houbolt step median {:.3} ms",
         times[times.len() / 2]
-    );
+    )?;
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! The cut-block report: the seed-002 comparison, refinement, ν → 0.5, cut strategies and
 //! step timings.
 
+use std::fmt::Write as _;
 use std::time::Instant;
 
 use anyhow::Result;
@@ -33,16 +34,19 @@ fn solved(
 const CUT_AND_PULL: [(&str, f64); 2] = [("pull", 10.0), ("scalpel_x", 100.0)];
 
 /// Prints the report.
-pub fn run() -> Result<()> {
-    println!("4. Cut block (seed 002): 100 × 80 × 17 mm, 6 × 16 × 14 cubes × 5 tetrahedra, cut at y = 45 mm,");
-    println!(
+pub fn run(out: &mut String) -> Result<()> {
+    writeln!(
+        out,"4. Cut block (seed 002): 100 × 80 × 17 mm, 6 × 16 × 14 cubes × 5 tetrahedra, cut at y = 45 mm,")?;
+    writeln!(
+        out,
         "   8.5 mm deep over the full width, 10 mm pull; E = 0.0385 MPa (displacement loading: the"
-    );
-    println!("   displacements below do not depend on E)");
-    println!(
+    )?;
+    writeln!(out, "   displacements below do not depend on E)")?;
+    writeln!(
+        out,
         "   {:<34} {:>9} {:>10} {:>10} {:>14}",
         "quantity", "seed 002", "ν = 0.43", "ν = 0.49", "ν = 0.43 grip"
-    );
+    )?;
     let mut a = solved(&[], &[], &CUT_AND_PULL)?;
     let mut b = solved(&[("nu", 0.49)], &[], &CUT_AND_PULL)?;
     let mut c = solved(&[], &[("support", "gripped")], &CUT_AND_PULL)?;
@@ -52,21 +56,26 @@ pub fn run() -> Result<()> {
         ("cut_opening", "cut opening at the top (mm)", "-"),
         ("reaction_force", "reaction force (N)", "-"),
     ] {
-        println!(
+        writeln!(
+            out,
             "   {label:<34} {seed:>9} {:>10.3} {:>10.3} {:>14.3}",
             a.get(name)?,
             b.get(name)?,
             c.get(name)?
-        );
+        )?;
     }
-    println!("   (grip: the pulled face also held in x and z, as a rigid clamp would)");
-    println!();
+    writeln!(
+        out,
+        "   (grip: the pulled face also held in x and z, as a rigid clamp would)"
+    )?;
+    writeln!(out)?;
 
-    println!("   Reaction force (N) under refinement, 10 mm pull:");
-    println!(
+    writeln!(out, "   Reaction force (N) under refinement, 10 mm pull:")?;
+    writeln!(
+        out,
         "   {:>8} {:>10} {:>12} {:>12}",
         "cells ×", "tets", "uncut", "cut"
-    );
+    )?;
     for m in [0.5, 1.0, 2.0] {
         let cells = [
             ("cells_x", 6.0 * m),
@@ -78,32 +87,40 @@ pub fn run() -> Result<()> {
         let mut uncut = solved(&uncut_settings, &[], &CUT_AND_PULL)?;
         let mut cut = solved(&cells, &[], &CUT_AND_PULL)?;
         let tets = cut.field().map_or(0, |(mesh, _)| mesh.tets().len());
-        println!(
+        writeln!(
+            out,
             "   {m:>8} {tets:>10} {:>12.4} {:>12.4}",
             uncut.get("reaction_force")?,
             cut.get("reaction_force")?
-        );
+        )?;
     }
-    println!();
+    writeln!(out)?;
 
-    println!("   Reaction force (N) as ν → 0.5 (linear tetrahedra lock: the force keeps rising):");
+    writeln!(
+        out,
+        "   Reaction force (N) as ν → 0.5 (linear tetrahedra lock: the force keeps rising):"
+    )?;
     for nu in [0.3, 0.43, 0.49, 0.499, 0.4999] {
         let mut s = solved(&[("nu", nu)], &[], &CUT_AND_PULL)?;
-        println!("   ν = {nu:<8} {:>10.4}", s.get("reaction_force")?);
+        writeln!(out, "   ν = {nu:<8} {:>10.4}", s.get("reaction_force")?)?;
     }
-    println!();
+    writeln!(out)?;
 
-    println!("   Cut strategies (default block, full cut, 10 mm pull):");
+    writeln!(
+        out,
+        "   Cut strategies (default block, full cut, 10 mm pull):"
+    )?;
     for strategy in ["duplicate", "delete"] {
         let mut s = solved(&[], &[("cut_strategy", strategy)], &CUT_AND_PULL)?;
-        println!(
+        writeln!(
+            out,
             "   {strategy:<10} reaction {:>8.4} N, opening {:>7.3} mm, bottom lift {:>7.3} mm",
             s.get("reaction_force")?,
             s.get("cut_opening")?,
             s.get("bottom_lift")?
-        );
+        )?;
     }
-    println!();
+    writeln!(out)?;
 
     let mut s = solved(&[], &[], &[("scalpel_x", 50.0)])?;
     let time = |s: &mut CutBlock, name: &str, values: [f64; 2]| -> Result<f64> {
@@ -117,9 +134,10 @@ pub fn run() -> Result<()> {
         t.sort_by(f64::total_cmp);
         Ok(t[t.len() / 2])
     };
-    println!("   step timings (median of 20): load only {:.3} ms, E changed {:.3} ms, cut grows by a cell {:.3} ms",
+    writeln!(
+        out,"   step timings (median of 20): load only {:.3} ms, E changed {:.3} ms, cut grows by a cell {:.3} ms",
         time(&mut s, "pull", [5.0, 10.0])?,
         time(&mut s, "E", [0.04, 0.0385])?,
-        time(&mut s, "scalpel_x", [67.0, 50.0])?);
+        time(&mut s, "scalpel_x", [67.0, 50.0])?)?;
     Ok(())
 }

@@ -1,24 +1,154 @@
-//! tissuefmu harness. Until the experiment runner lands, the main job is the verification
-//! report: the FE core (convergence against analytical solutions, Houbolt's spectral
-//! properties, timings), the cut-block scene (seed comparison, refinement, hard cases) and the
-//! abdomen scene (mesh quality, the seed's findings, convergence, timings), and the cut
-//! block's material identification on the shipped measurement set, and the abdomen's speed
-//! versus error with a stability table.
+//! tissuefmu harness: the command-line front end. Every command writes a report folder (CSVs,
+//! plots as PNG and SVG, VTU fields, `report.md` linking them) and prints its path. Without a
+//! command it runs `report`, everything on built-in defaults (the README's main job).
 
 mod abdomen_report;
 mod core_report;
 mod cutblock_report;
+mod fields_report;
 mod identify_report;
 mod speed_error_report;
+mod sweep_report;
 
-fn main() -> anyhow::Result<()> {
-    core_report::run()?;
-    println!();
-    cutblock_report::run()?;
-    println!();
-    abdomen_report::run()?;
-    println!();
-    identify_report::run()?;
-    println!();
-    speed_error_report::run()
+use std::path::{Path, PathBuf};
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+use harness::experiment::Experiment;
+use harness::report::Report;
+
+/// The repository folder (for the shipped experiments and data).
+const REPO: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+
+#[derive(Parser)]
+#[command(
+    name = "harness",
+    version,
+    about = "Experiments, sweeps, identification and reports for the tissuefmu scenes"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Everything on built-in defaults: verification, identification on the shipped data,
+    /// speed versus error, the shipped pelvis sweep, fields
+    Report {
+        #[arg(long, default_value = "report/default")]
+        out: PathBuf,
+    },
+    /// Runs (or resumes) the sweep of an experiment file
+    Sweep {
+        /// The experiment (TOML), e.g. experiments/pelvis_sweep.toml
+        experiment: PathBuf,
+        /// Output folder [default: report/<experiment name>]; re-running resumes it
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Cases in parallel, overriding the file's `jobs`
+        #[arg(long)]
+        jobs: Option<usize>,
+    },
+    /// Fits E and ν of the cut block to a measurement set
+    Identify {
+        /// Folder with force_displacement_<set>.csv and profile_<set>_x25/50/75.csv
+        #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../experiments/data/cutblock"))]
+        data: PathBuf,
+        #[arg(long, default_value = "A")]
+        set: String,
+        #[arg(long, default_value = "report/identify")]
+        out: PathBuf,
+    },
+    /// Speed versus error of the abdomen and the stability table
+    SpeedError {
+        #[arg(long, default_value = "report/speed_error")]
+        out: PathBuf,
+    },
+    /// Verification of the FE core and both scenes against analytical and seed results
+    Verify {
+        #[arg(long, default_value = "report/verify")]
+        out: PathBuf,
+    },
+    /// Stress map of the abdomen and VTU fields of both scenes
+    Fields {
+        #[arg(long, default_value = "report/fields")]
+        out: PathBuf,
+    },
+}
+
+fn verify(report: &mut Report) -> Result<()> {
+    report.heading("Verification");
+    for section in [core_report::run, cutblock_report::run, abdomen_report::run] {
+        let mut text = String::new();
+        section(&mut text)?;
+        report.verbatim(&text);
+    }
+    Ok(())
+}
+
+fn sweep(path: &Path, out: Option<PathBuf>, jobs: Option<usize>) -> Result<PathBuf> {
+    let mut e = Experiment::load(path)?;
+    if let Some(j) = jobs {
+        e.jobs = j;
+    }
+    let dir = out.unwrap_or_else(|| Path::new("report").join(&e.name));
+    Ok(sweep_report::run(&e, &dir)?.0)
+}
+
+fn default_report(out: &Path) -> Result<PathBuf> {
+    let mut report = Report::create(out, "tissuefmu report on built-in defaults")?;
+    verify(&mut report)?;
+    let data = Path::new(REPO).join("experiments/data/cutblock");
+    identify_report::run(&mut report, &data, "A")?;
+    speed_error_report::run(&mut report)?;
+    let e = Experiment::load(&Path::new(REPO).join("experiments/pelvis_sweep.toml"))?;
+    report.heading(&format!("Pelvis sweep ({} cases)", e.cases.len()));
+    let (path, correlations) = sweep_report::run(&e, &report.path("pelvis_sweep"))?;
+    report.text(&format!(
+        "Full sweep report: [pelvis_sweep/report.md](pelvis_sweep/report.md) ({}).",
+        path.display()
+    ));
+    report.table(
+        &["parameter", "cases", "Pearson r with the peak"],
+        &correlations,
+    );
+    fields_report::run(&mut report)?;
+    report.finish()
+}
+
+fn main() -> Result<()> {
+    let cli = Cli::parse();
+    let path = match cli.command.unwrap_or(Command::Report {
+        out: PathBuf::from("report/default"),
+    }) {
+        Command::Report { out } => default_report(&out)?,
+        Command::Sweep {
+            experiment,
+            out,
+            jobs,
+        } => sweep(&experiment, out, jobs)?,
+        Command::Identify { data, set, out } => {
+            let mut r = Report::create(&out, "Material identification")?;
+            identify_report::run(&mut r, &data, &set)?;
+            r.finish()?
+        }
+        Command::SpeedError { out } => {
+            let mut r = Report::create(&out, "Speed versus error")?;
+            speed_error_report::run(&mut r)?;
+            r.finish()?
+        }
+        Command::Verify { out } => {
+            let mut r = Report::create(&out, "Verification")?;
+            verify(&mut r)?;
+            r.finish()?
+        }
+        Command::Fields { out } => {
+            let mut r = Report::create(&out, "Fields")?;
+            fields_report::run(&mut r)?;
+            r.finish()?
+        }
+    };
+    println!("\nreport written to {}", path.display());
+    Ok(())
 }

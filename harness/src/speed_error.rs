@@ -203,6 +203,19 @@ pub fn write_csv(cases: &[Case], path: &Path) -> Result<PathBuf> {
     Ok(path.to_path_buf())
 }
 
+/// The Pareto front of (cost, error) points: those no other point beats in both, by cost.
+pub fn pareto(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut sorted = points.to_vec();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let mut front: Vec<(f64, f64)> = Vec::new();
+    for p in sorted {
+        if front.last().is_none_or(|l| p.1 < l.1) {
+            front.push(p);
+        }
+    }
+    front
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -262,5 +275,11 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn the_pareto_front_keeps_only_unbeaten_points() {
+        let pts = [(3.0, 0.1), (1.0, 0.5), (2.0, 0.6), (4.0, 0.01), (5.0, 0.05)];
+        assert_eq!(pareto(&pts), [(1.0, 0.5), (3.0, 0.1), (4.0, 0.01)]);
     }
 }

@@ -1,37 +1,80 @@
-//! The speed-versus-error report for the abdomen scene and the stability table.
-
-use std::path::PathBuf;
+//! The speed-versus-error report for the abdomen scene: table, CSV, Pareto plot and the
+//! stability table on the hard cases.
 
 use anyhow::Result;
-use harness::speed_error::{measure, stability, write_csv, Study};
+use harness::plot::{self, Axis, Chart, Curve, Mark};
+use harness::report::Report;
+use harness::speed_error::{measure, pareto, stability, write_csv, Study};
 
-/// Prints the tables and writes the CSV.
-pub fn run() -> Result<()> {
+/// Adds the section to `report`.
+pub fn run(report: &mut Report) -> Result<()> {
     let study = Study::default();
-    println!(
-        "7. Speed versus error, abdomen: peak-normalized max error of the pelvic-floor stress history over \
-         {} s against Houbolt on {} triangles at dt = {} s",
-        study.duration, study.reference.0, study.reference.1
-    );
-    let cases = measure(&study)?;
-    println!(
-        "   {:>9} {:>10} {:>8} {:>10} {:>10} {:>11}",
-        "triangles", "integrator", "dt (s)", "set-up ms", "step ms", "rel. error"
-    );
-    for c in &cases {
-        println!(
-            "   {:>9} {:>10} {:>8} {:>10.1} {:>10.3} {:>11.3e}",
-            c.triangles, c.integrator, c.dt, c.setup_ms, c.step_ms, c.error
-        );
-    }
-    let path = PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../target/report/speed_error.csv"
+    report.heading("Speed versus error, abdomen");
+    report.text(&format!(
+        "Error: peak-normalized max deviation of the pelvic-floor stress history over {} s from \
+         Houbolt on {} triangles at dt = {} s. Run time: set-up plus the steps of {} s simulated.",
+        study.duration, study.reference.0, study.reference.1, study.duration
     ));
-    println!("   written to {}", write_csv(&cases, &path)?.display());
-    println!("   Stability on hard cases (800 triangles, 0.1 s):");
-    for s in stability() {
-        println!("   {:<34} {:<19} {}", s.case, s.integrator, s.outcome);
+    let cases = measure(&study)?;
+    let cost = |c: &harness::speed_error::Case| c.setup_ms + c.step_ms * study.duration / c.dt;
+    let rows: Vec<Vec<String>> = cases
+        .iter()
+        .map(|c| {
+            vec![
+                c.triangles.to_string(),
+                c.integrator.clone(),
+                c.dt.to_string(),
+                format!("{:.1}", c.setup_ms),
+                format!("{:.3}", c.step_ms),
+                format!("{:.0}", cost(c)),
+                format!("{:.3e}", c.error),
+            ]
+        })
+        .collect();
+    report.table(
+        &[
+            "triangles",
+            "integrator",
+            "dt (s)",
+            "set-up (ms)",
+            "step (ms)",
+            "run (ms)",
+            "rel. error",
+        ],
+        &rows,
+    );
+    write_csv(&cases, &report.path("speed_error.csv"))?;
+    report.file("measurements", "speed_error.csv");
+    let mut curves: Vec<Curve> = Vec::new();
+    for c in &cases {
+        let label = format!("{} triangles, {}", c.triangles, c.integrator);
+        let point = (cost(c), c.error);
+        match curves.iter_mut().find(|k| k.label == label) {
+            Some(k) => k.points.push(point),
+            None => {
+                let colour = curves.len();
+                curves.push(Curve::new(&label, vec![point], Mark::Dots).colour(colour));
+            }
+        }
     }
+    let points: Vec<(f64, f64)> = cases.iter().map(|c| (cost(c), c.error)).collect();
+    let colour = curves.len();
+    curves.push(Curve::new("Pareto front", pareto(&points), Mark::Line).colour(colour));
+    plot::chart(
+        &report.path("pareto"),
+        &Chart {
+            title: "Abdomen: run time vs error of the pelvic-floor stress".into(),
+            x: Axis::log(&format!("run time for {} s simulated (ms)", study.duration)),
+            y: Axis::log("relative error of floor stress (1)"),
+            curves,
+        },
+    )?;
+    report.figure("Speed versus error with the Pareto front", "pareto");
+    report.text("Stability on hard cases (800 triangles, 0.1 s):");
+    let rows: Vec<Vec<String>> = stability()
+        .into_iter()
+        .map(|s| vec![s.case.into(), s.integrator.into(), s.outcome])
+        .collect();
+    report.table(&["case", "integrator", "outcome"], &rows);
     Ok(())
 }

@@ -45,6 +45,21 @@ pub enum SceneError {
     Model(#[from] ModelError),
 }
 
+/// The scenes by name (the FMI model identifiers): `abdomen` and `cutblock`.
+pub const SCENES: [&str; 2] = ["abdomen", "cutblock"];
+
+/// A new scene with default parameters, by name.
+pub fn create(name: &str) -> Result<Box<dyn Scene>, SceneError> {
+    match name {
+        "abdomen" => Ok(Box::new(abdomen::Abdomen::new())),
+        "cutblock" => Ok(Box::new(cutblock::CutBlock::new())),
+        _ => Err(SceneError::Config(format!(
+            "unknown scene `{name}` (known: {})",
+            SCENES.join(", ")
+        ))),
+    }
+}
+
 /// A simulation scene. All methods return errors instead of panicking.
 pub trait Scene: Send {
     /// The variable table; value references are indices into it.

@@ -1,0 +1,72 @@
+//! Fields: the abdomen's stress map with displacement arrows under the static pressing force
+//! (seed 003 Fig. 5.8/5.9), and both scenes' fields as VTU files for ParaView.
+
+use anyhow::{Context, Result};
+use harness::fields;
+use harness::plot::{self, MeshMap};
+use harness::report::Report;
+use models::element::Elastic;
+use models::scene::abdomen::Abdomen;
+use models::scene::cutblock::CutBlock;
+use models::scene::Scene;
+use models::stress;
+
+/// Adds the section to `report`.
+pub fn run(report: &mut Report) -> Result<()> {
+    report.heading("Fields");
+    let press = 0.8;
+    let mut a = Abdomen::new();
+    a.initialize()?;
+    let u = a.static_displacement(press)?;
+    let (mesh, props, _) = a.field().context("the abdomen is initialized")?;
+    let von_mises: Vec<f64> = stress::triangle_stresses(mesh, props, &u)
+        .iter()
+        .map(|s| s.von_mises())
+        .collect();
+    let norm = |n: usize| u[2 * n].hypot(u[2 * n + 1]);
+    let largest = (0..mesh.nodes().len()).map(norm).fold(0.0, f64::max);
+    let scale = 0.12 * mesh.extent() / largest;
+    let every = (mesh.nodes().len() / 150).max(1);
+    plot::mesh_map(
+        &report.path("abdomen_stress"),
+        &MeshMap {
+            title: format!("Abdomen, static press {press} N/mm (arrows × {scale:.2})"),
+            nodes: mesh.nodes(),
+            triangles: mesh.triangles(),
+            values: &von_mises,
+            value_label: "von Mises stress (MPa)".into(),
+            lines: mesh.lines(),
+            arrows: (0..mesh.nodes().len())
+                .step_by(every)
+                .map(|n| (n, [u[2 * n], u[2 * n + 1]]))
+                .collect(),
+            arrow_scale: scale,
+        },
+    )?;
+    report.figure(
+        &format!(
+            "Abdomen under a static press of {press} N/mm: von Mises stress of the triangles \
+             (colour), membranes (black), displacement arrows (red, largest {largest:.1} mm, \
+             drawn × {scale:.2})"
+        ),
+        "abdomen_stress",
+    );
+    fields::abdomen(&report.path("abdomen.vtu"), mesh, props, &u)?;
+    report.file(
+        "abdomen field for ParaView (displacement, stress, tissue)",
+        "abdomen.vtu",
+    );
+    let mut c = CutBlock::new();
+    c.initialize()?;
+    c.set("scalpel_x", 100.0)?;
+    c.set("pull", 10.0)?;
+    c.do_step(0.0, 1.0)?;
+    let material = Elastic::new("cutblock", c.get("E")?, c.get("nu")?)?;
+    let (mesh, u) = c.field().context("the cut block is initialized")?;
+    fields::cutblock(&report.path("cutblock.vtu"), mesh, &material, u)?;
+    report.file(
+        "cut block, full cut, 10 mm pull, for ParaView (displacement, von Mises)",
+        "cutblock.vtu",
+    );
+    Ok(())
+}

@@ -1,0 +1,156 @@
+//! The FMU backend (feature `fmu`): a packaged FMI 2 co-simulation FMU loaded through the
+//! `fmi` crate, the path users take. Variables are looked up by name in the FMU's own
+//! `modelDescription.xml`; the FMU's error messages, which reach the importer through the
+//! FMI logger callback (the `fmi` crate forwards them to the `log` facade), are captured per
+//! thread so that a failed case reports the model's own words.
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::ffi::CString;
+use std::path::Path;
+
+use anyhow::{anyhow, bail, Context, Result};
+use fmi::fmi2::import::Fmi2Import;
+use fmi::fmi2::instance::{CoSimulation as _, Common as _, InstanceCS};
+use fmi::traits::FmiImport as _;
+
+use crate::backend::Session;
+use crate::experiment::Value;
+
+thread_local! {
+    static LAST_ERROR: RefCell<Option<String>> = const { RefCell::new(None) };
+}
+
+/// Keeps the last error-level message logged on each thread.
+struct Capture;
+
+impl log::Log for Capture {
+    fn enabled(&self, m: &log::Metadata) -> bool {
+        m.level() <= log::Level::Warn
+    }
+
+    fn log(&self, record: &log::Record) {
+        if record.level() == log::Level::Error {
+            LAST_ERROR.with(|e| *e.borrow_mut() = Some(record.args().to_string()));
+        }
+    }
+
+    fn flush(&self) {}
+}
+
+static CAPTURE: Capture = Capture;
+
+/// A loaded FMU and its variables by name: (value reference, is a string).
+pub struct FmuBackend {
+    import: Fmi2Import,
+    variables: HashMap<String, (u32, bool)>,
+    identifier: String,
+}
+
+impl FmuBackend {
+    pub fn load(path: &Path) -> Result<Self> {
+        // Another logger may already be installed (then messages go there instead).
+        if log::set_logger(&CAPTURE).is_ok() {
+            log::set_max_level(log::LevelFilter::Warn);
+        }
+        let import: Fmi2Import = fmi::import::from_path(path)
+            .with_context(|| format!("cannot load FMU {}", path.display()))?;
+        let md = import.model_description();
+        let identifier = md
+            .co_simulation
+            .as_ref()
+            .map(|cs| cs.model_identifier.clone())
+            .with_context(|| format!("{} is not a co-simulation FMU", path.display()))?;
+        let variables = md
+            .get_model_variables()
+            .map(|v| {
+                let is_string = matches!(v.elem, fmi::schema::fmi2::ScalarVariableElement::String);
+                (v.name.clone(), (v.value_reference, is_string))
+            })
+            .collect();
+        Ok(Self {
+            import,
+            variables,
+            identifier,
+        })
+    }
+
+    pub fn open(&self) -> Result<FmuSession<'_>> {
+        let instance = self
+            .import
+            .instantiate_cs(&self.identifier, false, true)
+            .map_err(|e| failure("fmi2Instantiate", e))?;
+        Ok(FmuSession {
+            backend: self,
+            instance,
+        })
+    }
+
+    fn variable(&self, name: &str) -> Result<(u32, bool)> {
+        self.variables
+            .get(name)
+            .copied()
+            .with_context(|| format!("the FMU has no variable named `{name}`"))
+    }
+}
+
+/// The error of an FMI call, with the message the FMU logged for it if any.
+fn failure(call: &str, e: impl std::fmt::Display) -> anyhow::Error {
+    match LAST_ERROR.with(|m| m.borrow_mut().take()) {
+        Some(message) => anyhow!("{call}: {message}"),
+        None => anyhow!("{call} failed: {e}"),
+    }
+}
+
+/// One instance of the FMU.
+pub struct FmuSession<'a> {
+    backend: &'a FmuBackend,
+    instance: InstanceCS,
+}
+
+impl Session for FmuSession<'_> {
+    fn set(&mut self, name: &str, value: &Value) -> Result<()> {
+        let (vr, is_string) = self.backend.variable(name)?;
+        match (value, is_string) {
+            (Value::Real(x), false) => self
+                .instance
+                .set_real(&[vr], &[*x])
+                .map(drop)
+                .map_err(|e| failure(&format!("fmi2SetReal({name})"), e)),
+            (Value::Text(s), true) => self
+                .instance
+                .set_string(&[vr], &[CString::new(s.as_str())?])
+                .map_err(|e| failure(&format!("fmi2SetString({name})"), e)),
+            _ => bail!("`{name}`: value {value} has the wrong type"),
+        }
+    }
+
+    fn initialize(&mut self) -> Result<()> {
+        self.instance
+            .setup_experiment(None, 0.0, None)
+            .map_err(|e| failure("fmi2SetupExperiment", e))?;
+        self.instance
+            .enter_initialization_mode()
+            .map_err(|e| failure("fmi2EnterInitializationMode", e))?;
+        self.instance
+            .exit_initialization_mode()
+            .map_err(|e| failure("fmi2ExitInitializationMode", e))?;
+        Ok(())
+    }
+
+    fn step(&mut self, t: f64, h: f64) -> Result<()> {
+        self.instance
+            .do_step(t, h, true)
+            .map_err(|e| failure("fmi2DoStep", e))?;
+        Ok(())
+    }
+
+    fn get(&mut self, name: &str) -> Result<f64> {
+        let (vr, _) = self.backend.variable(name)?;
+        let mut x = [0.0];
+        self.instance
+            .get_real(&[vr], &mut x)
+            .map_err(|e| failure(&format!("fmi2GetReal({name})"), e))?;
+        Ok(x[0])
+    }
+}

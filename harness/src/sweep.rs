@@ -1,0 +1,273 @@
+//! Sweeps: the cases of an experiment run in parallel (rayon) with a progress bar
+//! (indicatif). Each finished case is written atomically to `cases/case_NNNN.csv`, a failed
+//! one to `cases/case_NNNN.error` with its message, so that an interrupted sweep, run again
+//! on the same folder, skips the finished cases, retries the failed ones and loses nothing.
+//! The folder also holds the experiment as run, the case plan (`plan.csv`; a re-run with a
+//! different plan is refused), `plan.json` (the resolved settings of every case, which the
+//! Dask runner in `harness/python/` reads) and `summary.csv` (one row per case).
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::backend::{simulate, Backend, Series};
+use crate::experiment::{Experiment, InputTable, Value};
+use crate::report::write_atomic;
+
+/// How one case ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Outcome {
+    /// Peak (largest value over time) and final value of every recorded output.
+    Finished {
+        peak: Vec<f64>,
+        last: Vec<f64>,
+    },
+    Failed(String),
+}
+
+/// One row of the summary.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CaseResult {
+    pub id: usize,
+    pub values: BTreeMap<String, Value>,
+    pub outcome: Outcome,
+}
+
+/// What a sweep left behind.
+#[derive(Debug, Clone)]
+pub struct Sweep {
+    pub dir: PathBuf,
+    pub results: Vec<CaseResult>,
+    /// Cases run now (the rest were already finished).
+    pub ran: usize,
+    pub seconds: f64,
+}
+
+/// The resolved plan the Dask runner reads.
+#[derive(Serialize)]
+struct Plan<'a> {
+    scene: &'a str,
+    stop_time: f64,
+    step: f64,
+    record: &'a [String],
+    inputs: &'a BTreeMap<String, InputTable>,
+    cases: Vec<PlanCase>,
+}
+
+#[derive(Serialize)]
+struct PlanCase {
+    id: usize,
+    settings: BTreeMap<String, Value>,
+}
+
+fn case_path(dir: &Path, id: usize, ext: &str) -> PathBuf {
+    dir.join("cases").join(format!("case_{id:04}.{ext}"))
+}
+
+/// The plan as CSV: case id and the values it varies.
+fn plan_csv(e: &Experiment) -> Result<Vec<u8>> {
+    let varied = e.varied();
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(std::iter::once("case").chain(varied.iter().map(String::as_str)))?;
+    for c in &e.cases {
+        let row = varied
+            .iter()
+            .map(|k| c.values.get(k).map(Value::to_string).unwrap_or_default());
+        w.write_record(std::iter::once(c.id.to_string()).chain(row))?;
+    }
+    Ok(w.into_inner()?)
+}
+
+/// Prepares the folder: refuses a different plan already there, writes the experiment,
+/// the plan and the per-case settings.
+fn prepare(e: &Experiment, dir: &Path) -> Result<Vec<Vec<(String, Value)>>> {
+    std::fs::create_dir_all(dir.join("cases"))
+        .with_context(|| format!("cannot create {}", dir.display()))?;
+    let plan = plan_csv(e)?;
+    let plan_path = dir.join("plan.csv");
+    if let Ok(old) = std::fs::read(&plan_path) {
+        if old != plan {
+            bail!(
+                "{} holds a sweep with a different case plan; choose another output folder \
+                 or delete that one",
+                dir.display()
+            );
+        }
+    }
+    write_atomic(&dir.join("experiment.toml"), e.source.as_bytes())?;
+    write_atomic(&plan_path, &plan)?;
+    let configs = dir.join("configs");
+    let settings = e
+        .cases
+        .iter()
+        .map(|c| e.settings(c, &configs))
+        .collect::<Result<Vec<_>>>()?;
+    let json = Plan {
+        scene: &e.scene,
+        stop_time: e.stop_time,
+        step: e.step,
+        record: &e.record,
+        inputs: &e.inputs,
+        cases: e
+            .cases
+            .iter()
+            .zip(&settings)
+            .map(|(c, s)| PlanCase {
+                id: c.id,
+                settings: s.iter().cloned().collect(),
+            })
+            .collect(),
+    };
+    write_atomic(
+        &dir.join("plan.json"),
+        serde_json::to_string_pretty(&json)?.as_bytes(),
+    )?;
+    Ok(settings)
+}
+
+fn progress(n: usize) -> ProgressBar {
+    let bar = ProgressBar::new(n as u64);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:30}] {pos}/{len} cases, {per_sec}, ETA {eta}",
+        )
+        .expect("the template is valid")
+        .progress_chars("=> "),
+    );
+    bar
+}
+
+/// Runs every case not yet finished in `dir`, then writes `summary.csv`.
+pub fn run(e: &Experiment, dir: &Path) -> Result<Sweep> {
+    let start = Instant::now();
+    let settings = prepare(e, dir)?;
+    let backend = Backend::new(e)?;
+    let pending: Vec<usize> = e
+        .cases
+        .iter()
+        .map(|c| c.id)
+        .filter(|&id| !case_path(dir, id, "csv").is_file())
+        .collect();
+    let threads = if e.jobs == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        e.jobs
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?;
+    let bar = progress(pending.len());
+    pool.install(|| {
+        pending.par_iter().try_for_each(|&id| -> Result<()> {
+            let run = backend
+                .open()
+                .and_then(|mut s| simulate(s.as_mut(), e, &settings[id]));
+            let error = case_path(dir, id, "error");
+            match run {
+                Ok(series) => {
+                    write_atomic(&case_path(dir, id, "csv"), &series.to_csv()?)?;
+                    if error.is_file() {
+                        std::fs::remove_file(&error)?;
+                    }
+                }
+                Err(err) => {
+                    let message = format!("{err:#}");
+                    bar.println(format!("case {id} failed: {message}"));
+                    write_atomic(&error, message.as_bytes())?;
+                }
+            }
+            bar.inc(1);
+            Ok(())
+        })
+    })?;
+    bar.finish_and_clear();
+    let results = collect(e, dir)?;
+    write_atomic(&dir.join("summary.csv"), &summary_csv(e, &results)?)?;
+    Ok(Sweep {
+        dir: dir.to_path_buf(),
+        results,
+        ran: pending.len(),
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// Reads every case's file back.
+fn collect(e: &Experiment, dir: &Path) -> Result<Vec<CaseResult>> {
+    e.cases
+        .iter()
+        .map(|c| {
+            let csv = case_path(dir, c.id, "csv");
+            let outcome = if csv.is_file() {
+                let s = Series::read_csv(&csv)?;
+                let peak = (1..=e.record.len())
+                    .map(|j| {
+                        s.rows
+                            .iter()
+                            .map(|r| r[j])
+                            .fold(f64::NEG_INFINITY, f64::max)
+                    })
+                    .collect();
+                let last = s.rows.last().map(|r| r[1..].to_vec()).unwrap_or_default();
+                Outcome::Finished { peak, last }
+            } else {
+                let path = case_path(dir, c.id, "error");
+                Outcome::Failed(
+                    std::fs::read_to_string(&path).unwrap_or_else(|_| "did not run".into()),
+                )
+            };
+            Ok(CaseResult {
+                id: c.id,
+                values: c.values.clone(),
+                outcome,
+            })
+        })
+        .collect()
+}
+
+fn summary_csv(e: &Experiment, results: &[CaseResult]) -> Result<Vec<u8>> {
+    let varied = e.varied();
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let mut header = vec!["case".to_string(), "status".to_string()];
+    header.extend(varied.iter().cloned());
+    header.extend(e.record.iter().map(|r| format!("{r}_peak")));
+    header.extend(e.record.iter().map(|r| format!("{r}_final")));
+    header.push("error".into());
+    w.write_record(&header)?;
+    for r in results {
+        let mut row = vec![r.id.to_string()];
+        let values = varied
+            .iter()
+            .map(|k| r.values.get(k).map(Value::to_string).unwrap_or_default());
+        match &r.outcome {
+            Outcome::Finished { peak, last } => {
+                row.push("finished".into());
+                row.extend(values);
+                row.extend(peak.iter().chain(last).map(|x| format!("{x:?}")));
+                row.push(String::new());
+            }
+            Outcome::Failed(message) => {
+                row.push("failed".into());
+                row.extend(values);
+                row.extend(std::iter::repeat_n(String::new(), 2 * e.record.len()));
+                row.push(message.clone());
+            }
+        }
+        w.write_record(&row)?;
+    }
+    Ok(w.into_inner()?)
+}
+
+impl CaseResult {
+    /// The peak of output `j` of the recorded list, if the case finished.
+    pub fn peak(&self, j: usize) -> Option<f64> {
+        match &self.outcome {
+            Outcome::Finished { peak, .. } => Some(peak[j]),
+            Outcome::Failed(_) => None,
+        }
+    }
+}

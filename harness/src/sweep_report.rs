@@ -1,0 +1,248 @@
+//! The sweep command's report: runs (or resumes) the sweep in its folder, then writes the
+//! case table, the peak of the experiment's metric against each varied parameter (with the
+//! correlation over the cases that vary it) and the metric's time histories.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Result;
+use harness::backend::Series;
+use harness::experiment::{Experiment, Value, ANATOMY};
+use harness::plot::{self, Axis, Chart, Curve, Mark};
+use harness::report::Report;
+use harness::sweep::{self, CaseResult, Outcome};
+
+/// The unit of a parameter or output, from the scene's table (anatomy: mm or degrees).
+fn unit(e: &Experiment, name: &str) -> String {
+    if let Some(field) = name.strip_prefix(ANATOMY) {
+        return if field == "pelvic_tilt" { "°" } else { "mm" }.into();
+    }
+    models::scene::create(&e.scene)
+        .ok()
+        .and_then(|s| {
+            s.variables()
+                .iter()
+                .find(|v| v.name == name)
+                .map(|v| v.unit)
+        })
+        .filter(|u| !u.is_empty() && *u != "1")
+        .unwrap_or("-")
+        .into()
+}
+
+/// Pearson's correlation coefficient.
+fn correlation(p: &[(f64, f64)]) -> f64 {
+    let n = p.len() as f64;
+    let (mx, my) = (
+        p.iter().map(|q| q.0).sum::<f64>() / n,
+        p.iter().map(|q| q.1).sum::<f64>() / n,
+    );
+    let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
+    for (x, y) in p {
+        sxy += (x - mx) * (y - my);
+        sxx += (x - mx) * (x - mx);
+        syy += (y - my) * (y - my);
+    }
+    sxy / (sxx * syy).sqrt()
+}
+
+/// Runs the sweep into `dir` and writes its report there; returns the report's path and one
+/// line per parameter (its correlation with the metric) for an enclosing report.
+pub fn run(e: &Experiment, dir: &Path) -> Result<(PathBuf, Vec<Vec<String>>)> {
+    let mut report = Report::create(dir, &format!("Sweep `{}`", e.name))?;
+    if !e.description.is_empty() {
+        report.text(&e.description);
+    }
+    let s = sweep::run(e, dir)?;
+    let failed = s
+        .results
+        .iter()
+        .filter(|r| matches!(r.outcome, Outcome::Failed(_)))
+        .count();
+    report.text(&format!(
+        "{} cases ({} run now, {} finished earlier), {failed} failed; {:.1} s wall time; backend {:?}, \
+         {} s simulated at a {} s communication step.",
+        s.results.len(),
+        s.ran,
+        s.results.len() - s.ran,
+        s.seconds,
+        e.backend,
+        e.stop_time,
+        e.step
+    ));
+    let j = e.record.iter().position(|r| *r == e.metric).unwrap_or(0);
+    let metric_unit = unit(e, &e.metric);
+    let metric_label = format!("peak {} ({metric_unit})", e.metric);
+    let varied = e.varied();
+    let mut header: Vec<&str> = vec!["case"];
+    header.extend(varied.iter().map(String::as_str));
+    header.push(&metric_label);
+    header.push("status");
+    let rows: Vec<Vec<String>> = s.results.iter().map(|r| case_row(r, &varied, j)).collect();
+    report.table(&header, &rows);
+    let mut correlations = Vec::new();
+    for name in &varied {
+        if let Some(line) = parameter_plot(&mut report, e, &s.results, name, j, &metric_label)? {
+            correlations.push(line);
+        }
+    }
+    if !correlations.is_empty() {
+        report.text("Correlation of the metric's peak with each numeric parameter over the cases that vary it:");
+        report.table(&["parameter", "cases", "Pearson r"], &correlations);
+    }
+    histories(&mut report, e, &s.results, &metric_unit)?;
+    report.file("one row per case", "summary.csv");
+    report.file("the case plan", "plan.csv");
+    report.file(
+        "resolved settings per case (the Dask runner reads it)",
+        "plan.json",
+    );
+    report.file("time histories, one file per case", "cases");
+    Ok((report.finish()?, correlations))
+}
+
+fn case_row(r: &CaseResult, varied: &[String], j: usize) -> Vec<String> {
+    let mut row = vec![r.id.to_string()];
+    row.extend(varied.iter().map(|k| {
+        r.values.get(k).map_or(String::new(), |v| match v {
+            Value::Real(x) => format!("{x:.4}"),
+            Value::Text(t) => t.clone(),
+        })
+    }));
+    match &r.outcome {
+        Outcome::Finished { .. } => {
+            row.push(format!("{:.5}", r.peak(j).unwrap_or(f64::NAN)));
+            row.push("finished".into());
+        }
+        Outcome::Failed(message) => {
+            row.push(String::new());
+            row.push(format!("failed: {message}"));
+        }
+    }
+    row
+}
+
+/// Plots the metric's peak against one parameter; returns its correlation line if numeric.
+fn parameter_plot(
+    report: &mut Report,
+    e: &Experiment,
+    results: &[CaseResult],
+    name: &str,
+    j: usize,
+    metric_label: &str,
+) -> Result<Option<Vec<String>>> {
+    let cases: Vec<(&Value, f64)> = results
+        .iter()
+        .filter_map(|r| Some((r.values.get(name)?, r.peak(j)?)))
+        .collect();
+    let mut categories: Vec<String> = Vec::new();
+    let points: Vec<(f64, f64)> = cases
+        .iter()
+        .map(|(v, y)| match v {
+            Value::Real(x) => (*x, *y),
+            Value::Text(t) => {
+                if !categories.contains(t) {
+                    categories.push(t.clone());
+                }
+                (
+                    categories.iter().position(|c| c == t).unwrap_or(0) as f64,
+                    *y,
+                )
+            }
+        })
+        .collect();
+    if points.is_empty() {
+        return Ok(None);
+    }
+    let numeric = categories.is_empty();
+    let x = Axis {
+        label: if numeric {
+            format!("{name} ({})", unit(e, name))
+        } else {
+            name.into()
+        },
+        log: false,
+        categories: (!numeric).then_some(categories),
+    };
+    let stem = format!("metric_vs_{}", name.replace(['.', '/'], "_"));
+    plot::chart(
+        &report.path(&stem),
+        &Chart {
+            title: format!("{}: {} against {name}", e.name, e.metric),
+            x,
+            y: Axis::linear(metric_label),
+            curves: vec![Curve::new(
+                &format!("{} cases", points.len()),
+                points.clone(),
+                Mark::Dots,
+            )],
+        },
+    )?;
+    report.figure(&format!("Peak {} against {name}", e.metric), &stem);
+    Ok((numeric && points.len() > 2).then(|| {
+        vec![
+            name.to_string(),
+            points.len().to_string(),
+            format!("{:+.3}", correlation(&points)),
+        ]
+    }))
+}
+
+/// The metric over time for the first finished cases (at most 6).
+fn histories(
+    report: &mut Report,
+    e: &Experiment,
+    results: &[CaseResult],
+    unit: &str,
+) -> Result<()> {
+    let mut curves = Vec::new();
+    for r in results.iter().filter(|r| r.peak(0).is_some()).take(6) {
+        let s = Series::read_csv(&report.path(&format!("cases/case_{:04}.csv", r.id)))?;
+        let Some(y) = s.column(&e.metric) else {
+            continue;
+        };
+        let label = r
+            .values
+            .iter()
+            .map(|(k, v)| match v {
+                Value::Real(x) => format!("{k}={x:.3}"),
+                Value::Text(t) => format!("{k}={t}"),
+            })
+            .collect::<Vec<_>>()
+            .join(", ");
+        let label = if label.len() > 40 {
+            format!("case {}", r.id)
+        } else {
+            format!("case {}: {label}", r.id)
+        };
+        let points = s.rows.iter().map(|row| row[0]).zip(y).collect();
+        let colour = curves.len();
+        curves.push(Curve::new(&label, points, Mark::Line).colour(colour));
+    }
+    if curves.is_empty() {
+        return Ok(());
+    }
+    plot::chart(
+        &report.path("histories"),
+        &Chart {
+            title: format!("{}: {} over time", e.name, e.metric),
+            x: Axis::linear("time (s)"),
+            y: Axis::linear(&format!("{} ({unit})", e.metric)),
+            curves,
+        },
+    )?;
+    report.figure(&format!("{} over time, first cases", e.metric), "histories");
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::correlation;
+
+    #[test]
+    fn correlation_of_lines_is_plus_or_minus_one() {
+        let up: Vec<(f64, f64)> = (0..5).map(|i| (i as f64, 2.0 * i as f64 + 1.0)).collect();
+        let down: Vec<(f64, f64)> = (0..5).map(|i| (i as f64, -3.0 * i as f64)).collect();
+        assert!((correlation(&up) - 1.0).abs() < 1e-12);
+        assert!((correlation(&down) + 1.0).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,185 @@
+//! The `harness sweep` command end to end: a case that cannot run is recorded and does not
+//! stop the others; an interrupted sweep resumes without re-running finished cases and ends
+//! with the same results as an uninterrupted one; a different plan in the same folder and an
+//! invalid experiment file are refused before any work, naming the problem.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+const EXPERIMENT: &str = r#"
+name = "small"
+scene = "abdomen"
+stop_time = 0.2
+step = 0.02
+jobs = 2
+record = ["floor_stress_max", "apex_uy"]
+[parameters]
+target_triangles = 400
+[inputs.press_force]
+time = [0.0, 0.2]
+value = [0.0, 0.5]
+[[sweep]]
+design = "list"
+values = { configuration = ["normal", "no_such_pelvis", "wide"] }
+[[sweep]]
+design = "grid"
+ranges = { wall_E = { min = 0.01, max = 0.1, log = true, levels = 3 } }
+"#;
+
+fn harness(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_harness"))
+        .args(args)
+        .output()
+        .expect("the harness binary runs")
+}
+
+fn write_experiment(dir: &Path, text: &str) -> PathBuf {
+    let p = dir.join("small.toml");
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn summary(dir: &Path) -> String {
+    std::fs::read_to_string(dir.join("summary.csv")).unwrap()
+}
+
+fn sweep(exp: &Path, out: &Path) -> Output {
+    harness(&[
+        "sweep",
+        exp.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ])
+}
+
+#[test]
+fn failures_are_recorded_and_resuming_reruns_only_missing_cases() {
+    let tmp = tempfile::tempdir().unwrap();
+    let exp = write_experiment(tmp.path(), EXPERIMENT);
+    let out = tmp.path().join("out");
+    let o = sweep(&exp, &out);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = summary(&out);
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 7, "{text}");
+    assert!(
+        lines[2].contains("failed") && lines[2].contains("no_such_pelvis"),
+        "{text}"
+    );
+    assert_eq!(text.matches(",finished,").count(), 5, "{text}");
+    for f in [
+        "report.md",
+        "metric_vs_wall_E.png",
+        "metric_vs_wall_E.svg",
+        "histories.png",
+        "plan.json",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+
+    // Lose two finished cases, as if the run had been interrupted before them.
+    let case = |i: usize| out.join(format!("cases/case_{i:04}.csv"));
+    let kept = std::fs::metadata(case(0)).unwrap().modified().unwrap();
+    let before = std::fs::read(case(3)).unwrap();
+    std::fs::remove_file(case(3)).unwrap();
+    std::fs::remove_file(case(5)).unwrap();
+    let o = sweep(&exp, &out);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success());
+    // The failed case is retried, the two lost ones rerun: three cases run now.
+    assert!(
+        stdout.contains("6 cases (3 run now, 3 finished earlier)"),
+        "{stdout}"
+    );
+    assert_eq!(
+        std::fs::metadata(case(0)).unwrap().modified().unwrap(),
+        kept
+    );
+    assert_eq!(
+        std::fs::read(case(3)).unwrap(),
+        before,
+        "reruns are deterministic"
+    );
+    assert_eq!(summary(&out), text);
+    let leftovers: Vec<_> = std::fs::read_dir(out.join("cases"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains("tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+
+    // Another plan in the same folder is refused.
+    let other = write_experiment(tmp.path(), &EXPERIMENT.replace("levels = 3", "levels = 4"));
+    let o = sweep(&other, &out);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("different case plan"));
+}
+
+#[test]
+fn a_killed_sweep_resumes_to_the_same_results() {
+    let tmp = tempfile::tempdir().unwrap();
+    let exp = write_experiment(
+        tmp.path(),
+        &EXPERIMENT
+            .replace("jobs = 2", "jobs = 1")
+            .replace("stop_time = 0.2", "stop_time = 1.0")
+            .replace("target_triangles = 400", "target_triangles = 3000")
+            .replace("time = [0.0, 0.2]", "time = [0.0, 1.0]"),
+    );
+    let clean = tmp.path().join("clean");
+    assert!(sweep(&exp, &clean).status.success());
+
+    let out = tmp.path().join("killed");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_harness"))
+        .args([
+            "sweep",
+            exp.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while !out.join("cases/case_0000.csv").is_file() && start.elapsed() < Duration::from_secs(60) {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(
+        !out.join("summary.csv").is_file(),
+        "the sweep should have been killed before its end"
+    );
+    let o = sweep(&exp, &out);
+    assert!(o.status.success());
+    assert_eq!(summary(&out), summary(&clean));
+}
+
+#[test]
+fn invalid_experiments_fail_before_any_work_naming_the_key() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (text, needle) in [
+        (
+            EXPERIMENT.replace("jobs = 2", "jobs = 2\nthreads = 4"),
+            "threads",
+        ),
+        (
+            EXPERIMENT.replace("max = 0.1, log", "max = -0.1, log"),
+            "sweep[1].ranges.wall_E",
+        ),
+        (
+            EXPERIMENT.replace("value = [0.0, 0.5]", "value = [0.0, 5000.0]"),
+            "inputs.press_force",
+        ),
+    ] {
+        let exp = write_experiment(tmp.path(), &text);
+        let out = tmp.path().join("never");
+        let o = sweep(&exp, &out);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success());
+        assert!(err.contains(needle), "`{err}` should name `{needle}`");
+        assert!(!out.exists(), "nothing is written for an invalid file");
+    }
+}
