@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone: formatting, lints, every Rust test in release
-# mode, then the packaged FMUs in fmpy (a Python venv in .venv with fmpy and pytest is
-# created on first use).
+# mode, then the packaged FMUs in fmpy and the Dask sweep runner (a Python venv in .venv with
+# fmpy, pytest and dask is created on first use).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -26,11 +26,13 @@ cargo build --release -p fmu
 
 echo "== Rust tests (release, with the harness's FMU backend)"
 cargo test --workspace --all-features --release
+cargo build --release -p harness --all-features
 
 echo "== Python environment (fmpy, pytest)"
 if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
 fi
-.venv/bin/python -m pip install --quiet --disable-pip-version-check fmpy==0.3.32 pytest numpy
-echo "== FMUs in fmpy"
+.venv/bin/python -m pip install --quiet --disable-pip-version-check \
+    fmpy==0.3.32 pytest numpy "dask[distributed]==2026.8.0"
+echo "== FMUs in fmpy, and the Dask sweep runner on a local two-worker cluster"
 .venv/bin/python -m pytest -q tests/python

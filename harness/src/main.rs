@@ -49,6 +49,9 @@ enum Command {
         /// Cases in parallel, overriding the file's `jobs`
         #[arg(long)]
         jobs: Option<usize>,
+        /// Only write the plan (plan.json, for harness/python/dask_sweep.py); run nothing
+        #[arg(long)]
+        plan_only: bool,
     },
     /// Fits E and ν of the cut block to a measurement set
     Identify {
@@ -87,12 +90,21 @@ fn verify(report: &mut Report) -> Result<()> {
     Ok(())
 }
 
-fn sweep(path: &Path, out: Option<PathBuf>, jobs: Option<usize>) -> Result<PathBuf> {
+fn sweep(
+    path: &Path,
+    out: Option<PathBuf>,
+    jobs: Option<usize>,
+    plan_only: bool,
+) -> Result<PathBuf> {
     let mut e = Experiment::load(path)?;
     if let Some(j) = jobs {
         e.jobs = j;
     }
     let dir = out.unwrap_or_else(|| Path::new("report").join(&e.name));
+    if plan_only {
+        harness::sweep::prepare(&e, &dir)?;
+        return Ok(dir.join("plan.json"));
+    }
     Ok(sweep_report::run(&e, &dir)?.0)
 }
 
@@ -127,7 +139,8 @@ fn main() -> Result<()> {
             experiment,
             out,
             jobs,
-        } => sweep(&experiment, out, jobs)?,
+            plan_only,
+        } => sweep(&experiment, out, jobs, plan_only)?,
         Command::Identify { data, set, out } => {
             let mut r = Report::create(&out, "Material identification")?;
             identify_report::run(&mut r, &data, &set)?;
@@ -149,6 +162,6 @@ fn main() -> Result<()> {
             r.finish()?
         }
     };
-    println!("\nreport written to {}", path.display());
+    println!("\nwritten to {}", path.display());
     Ok(())
 }

@@ -83,9 +83,9 @@ fn plan_csv(e: &Experiment) -> Result<Vec<u8>> {
     Ok(w.into_inner()?)
 }
 
-/// Prepares the folder: refuses a different plan already there, writes the experiment,
-/// the plan and the per-case settings.
-fn prepare(e: &Experiment, dir: &Path) -> Result<Vec<Vec<(String, Value)>>> {
+/// Prepares the folder without running anything: refuses a different plan already there,
+/// writes the experiment, the plan, `plan.json` and the generated configuration files.
+pub fn prepare(e: &Experiment, dir: &Path) -> Result<Vec<Vec<(String, Value)>>> {
     std::fs::create_dir_all(dir.join("cases"))
         .with_context(|| format!("cannot create {}", dir.display()))?;
     let plan = plan_csv(e)?;
