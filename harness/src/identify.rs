@@ -59,6 +59,22 @@ impl Measurements {
             profiles: [a?, b?, c?],
         })
     }
+
+    /// Reads a force–displacement CSV alone (no profiles: ν must then be given).
+    pub fn load_forces(path: &Path) -> Result<Self> {
+        let fd = read_pairs(path)?;
+        Ok(Self {
+            profile_pull: fd.iter().map(|p| p.0).fold(f64::MIN, f64::max),
+            displacement: fd.iter().map(|p| p.0).collect(),
+            force: fd.iter().map(|p| p.1).collect(),
+            profiles: Default::default(),
+        })
+    }
+
+    /// Whether scanner profiles were given.
+    pub fn has_profiles(&self) -> bool {
+        self.profiles.iter().any(|p| !p.is_empty())
+    }
 }
 
 /// The model's response for ν: reaction force per unit E and unit pull, and the three
@@ -176,16 +192,23 @@ pub struct Fit {
     pub scan: Vec<(f64, f64, f64)>,
 }
 
-/// Fits ν to the profiles (ν ∈ [0.05, 0.499]) and then E to the forces.
-pub fn identify(m: &Measurements) -> Result<Fit> {
-    let result = Executor::new(ProfileCost(m), BrentOpt::new(0.05, 0.499))
-        .configure(|s| s.max_iters(40))
-        .run()
-        .map_err(|e| anyhow::anyhow!("ν fit: {e}"))?;
-    let nu = result
-        .state()
-        .best_param
-        .context("ν fit returned no parameter")?;
+/// Fits ν to the profiles (ν ∈ [0.05, 0.499]) unless `fixed_nu` is given, then E to the
+/// forces.
+pub fn identify(m: &Measurements, fixed_nu: Option<f64>) -> Result<Fit> {
+    let nu = match fixed_nu {
+        Some(nu) if (0.0..0.5).contains(&nu) => nu,
+        Some(nu) => bail!("ν = {nu} is outside [0, 0.5)"),
+        None if !m.has_profiles() => {
+            bail!("no profiles to fit ν to: give ν to fit E alone from the forces")
+        }
+        None => Executor::new(ProfileCost(m), BrentOpt::new(0.05, 0.499))
+            .configure(|s| s.max_iters(40))
+            .run()
+            .map_err(|e| anyhow::anyhow!("ν fit: {e}"))?
+            .state()
+            .best_param
+            .context("ν fit returned no parameter")?,
+    };
     let r = response(nu, m.profile_pull)?;
     let (e, e_std, force_rms) = fit_e(r.force_per_e_mm, m);
     let lines = [0, 1, 2].map(|k| deviation(&r.profiles[k], &m.profiles[k]));
@@ -235,7 +258,7 @@ mod tests {
     #[test]
     fn recovers_known_parameters_within_one_percent() {
         let (e, nu) = (0.05, 0.4);
-        let fit = identify(&synthetic(e, nu)).unwrap();
+        let fit = identify(&synthetic(e, nu), None).unwrap();
         println!(
             "fit: E = {:.6} (true {e}), ν = {:.5} (true {nu})",
             fit.e, fit.nu
@@ -255,6 +278,17 @@ mod tests {
             assert!(rms < 1e-9 * m.force[10], "{rms}");
             assert!((e - 0.05).abs() > 1e-4, "E should move with ν: {e}");
         }
+    }
+
+    #[test]
+    fn forces_alone_give_e_at_a_given_nu() {
+        let mut m = synthetic(0.05, 0.4);
+        m.profiles = Default::default();
+        let e = identify(&m, None).unwrap_err().to_string();
+        assert!(e.contains("give ν"), "{e}");
+        let fit = identify(&m, Some(0.4)).unwrap();
+        assert!(((fit.e - 0.05) / 0.05).abs() < 1e-9, "{}", fit.e);
+        assert!(identify(&m, Some(0.5)).is_err());
     }
 
     #[test]

@@ -1,45 +1,114 @@
-//! The identification report: E and ν of the cut block fitted to a measurement set (the
-//! shipped set A by default), the profile deviations against seed 002's acceptance criterion,
-//! the E–ν trade-off, and plots of forces and profiles, data against model.
+//! The identification report: E (and ν, when profiles are given) of the cut block fitted to a
+//! measurement set (the shipped set A by default) or to a force–displacement CSV alone; the
+//! profile deviations against seed 002's acceptance criterion; the E–ν trade-off; plots of
+//! forces and profiles, data against model.
 
 use std::path::Path;
 
 use anyhow::Result;
-use harness::identify::{identify, response, Measurements};
+use harness::identify::{identify, response, Fit, Measurements, Response};
 use harness::plot::{self, Axis, Chart, Curve, Mark};
 use harness::report::Report;
 use models::scene::cutblock::PROFILE_STEP;
 
-/// Adds the section to `report`.
-pub fn run(report: &mut Report, dir: &Path, set: &str) -> Result<()> {
-    report.heading(&format!(
-        "Material identification, cut block, data set {set}"
-    ));
-    let m = Measurements::load(dir, set)?;
-    let fit = identify(&m)?;
+/// What to fit: a measurement set (forces and profiles) or a force–displacement CSV alone.
+pub enum Data<'a> {
+    Set { dir: &'a Path, set: &'a str },
+    Forces(&'a Path),
+}
+
+/// Adds the section to `report`; `fixed_nu` skips the ν fit.
+pub fn run(report: &mut Report, data: Data, fixed_nu: Option<f64>) -> Result<()> {
+    let (m, name) = match data {
+        Data::Set { dir, set } => (
+            Measurements::load(dir, set)?,
+            format!("set {set} in {}", dir.display()),
+        ),
+        Data::Forces(path) => (Measurements::load_forces(path)?, path.display().to_string()),
+    };
+    report.heading(&format!("Material identification, cut block, {name}"));
+    let fit = identify(&m, fixed_nu)?;
     let r = response(fit.nu, m.profile_pull)?;
+    let nu_source = if fixed_nu.is_some() {
+        "given"
+    } else {
+        "from the profiles (Brent's method, argmin)"
+    };
     report.text(&format!(
-        "Data: {} ({} force–displacement points, profiles at {} mm pull). ν from the profiles \
-         (Brent's method, argmin): **{:.4}**; E from the forces at that ν: **{:.5} ± {:.5} MPa** \
-         (standard error). Force RMS residual {:.4} N (largest measured force {:.3} N); profile \
-         RMS {:.4} mm.",
-        dir.display(),
+        "{} force–displacement points. ν {nu_source}: **{:.4}**; E from the forces at that ν: \
+         **{:.5} ± {:.5} MPa** (standard error). Force RMS residual {:.4} N (largest measured \
+         force {:.3} N).",
         m.force.len(),
-        m.profile_pull,
         fit.nu,
         fit.e,
         fit.e_std,
         fit.force_rms,
         m.force.iter().copied().fold(0.0, f64::max),
-        fit.profile_rms
     ));
-    if fit.nu > 0.498 {
+    report.text(
+        "E–ν trade-off: with the pull prescribed the force is E · c(ν) · d, so the forces alone \
+         fit every ν equally well with its own E (their E–ν correlation is exact, −1 in the \
+         linearized sense); only the profiles pin ν down.",
+    );
+    forces_plot(report, &m, &fit, &r)?;
+    if m.has_profiles() {
+        profiles_section(report, &m, &fit, &r, fixed_nu.is_none())?;
+    }
+    Ok(())
+}
+
+fn forces_plot(report: &mut Report, m: &Measurements, fit: &Fit, r: &Response) -> Result<()> {
+    let data = m
+        .displacement
+        .iter()
+        .copied()
+        .zip(m.force.clone())
+        .collect();
+    let model = m
+        .displacement
+        .iter()
+        .map(|&d| (d, fit.e * r.force_per_e_mm * d))
+        .collect();
+    let label = format!("model, E = {:.4} MPa, ν = {:.3}", fit.e, fit.nu);
+    plot::chart(
+        &report.path("force_displacement"),
+        &Chart {
+            title: "Cut block: reaction force, data vs fit".into(),
+            x: Axis::linear("pull displacement (mm)"),
+            y: Axis::linear("reaction force (N)"),
+            curves: vec![
+                Curve::new("measured", data, Mark::Dots),
+                Curve::new(&label, model, Mark::Line).colour(1),
+            ],
+        },
+    )?;
+    report.figure(
+        "Force–displacement: data and fitted model",
+        "force_displacement",
+    );
+    Ok(())
+}
+
+fn profiles_section(
+    report: &mut Report,
+    m: &Measurements,
+    fit: &Fit,
+    r: &Response,
+    nu_fitted: bool,
+) -> Result<()> {
+    report.text(&format!("Profile RMS deviation {:.4} mm.", fit.profile_rms));
+    if nu_fitted && fit.nu > 0.498 {
         report.text(
             "ν sits at the upper end of the search interval: the profile misfit keeps falling \
-             toward incompressibility, a sign of model-form error (the linear model overshoots the \
-             rise near the cut), so this ν is not a trustworthy material value.",
+             toward incompressibility, a sign of model-form error (the linear model overshoots \
+             the rise near the cut), so this ν is not a trustworthy material value.",
         );
     }
+    report.text(
+        "Profile deviation per scan line, in lab coordinates (clamped edge at y = 0, the frame \
+         of scanner and model; no offset fitted); acceptance (seed 002 §3.5): below 1 % of the \
+         largest block dimension = 1 mm.",
+    );
     let rows: Vec<Vec<String>> = [25, 50, 75]
         .iter()
         .zip(&fit.lines)
@@ -53,57 +122,17 @@ pub fn run(report: &mut Report, dir: &Path, set: &str) -> Result<()> {
             ]
         })
         .collect();
-    report.text(
-        "Profile deviation per scan line; acceptance (seed 002 §3.5): below 1 % of the largest \
-         block dimension = 1 mm.",
-    );
     report.table(
         &["line", "RMS (mm)", "max (mm)", "points", "criterion"],
         &rows,
     );
-    report.text(
-        "E–ν trade-off: with the pull prescribed the force is E · c(ν) · d, so the forces alone \
-         fit every ν equally well with its own E (their E–ν correlation is exact, −1 in the \
-         linearized sense); only the profiles pin ν down. Profile misfit and force-only E over ν:",
-    );
+    report.text("Profile misfit and the force-only E over ν:");
     let scan: Vec<Vec<String>> = fit
         .scan
         .iter()
         .map(|(nu, rms, e)| vec![nu.to_string(), format!("{rms:.4}"), format!("{e:.5}")])
         .collect();
     report.table(&["ν", "profile RMS (mm)", "E from forces (MPa)"], &scan);
-    let data: Vec<(f64, f64)> = m
-        .displacement
-        .iter()
-        .copied()
-        .zip(m.force.clone())
-        .collect();
-    let model = m
-        .displacement
-        .iter()
-        .map(|&d| (d, fit.e * r.force_per_e_mm * d))
-        .collect();
-    plot::chart(
-        &report.path("force_displacement"),
-        &Chart {
-            title: format!("Cut block, set {set}: reaction force, data vs fit"),
-            x: Axis::linear("pull displacement (mm)"),
-            y: Axis::linear("reaction force (N)"),
-            curves: vec![
-                Curve::new("measured", data, Mark::Dots),
-                Curve::new(
-                    &format!("model, E = {:.4} MPa, ν = {:.3}", fit.e, fit.nu),
-                    model,
-                    Mark::Line,
-                )
-                .colour(1),
-            ],
-        },
-    )?;
-    report.figure(
-        "Force–displacement: data and fitted model",
-        "force_displacement",
-    );
     let mut curves = Vec::new();
     for (k, x) in [25, 50, 75].iter().enumerate() {
         let data = m.profiles[k].clone();

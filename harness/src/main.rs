@@ -16,6 +16,7 @@ use anyhow::Result;
 use clap::{Parser, Subcommand};
 use harness::experiment::Experiment;
 use harness::report::Report;
+use identify_report::Data;
 
 /// The repository folder (for the shipped experiments and data).
 const REPO: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
@@ -53,13 +54,19 @@ enum Command {
         #[arg(long)]
         plan_only: bool,
     },
-    /// Fits E and ν of the cut block to a measurement set
+    /// Fits E (and ν, from laser profiles) of the cut block to measurements
     Identify {
         /// Folder with force_displacement_<set>.csv and profile_<set>_x25/50/75.csv
         #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../experiments/data/cutblock"))]
         data: PathBuf,
         #[arg(long, default_value = "A")]
         set: String,
+        /// A force–displacement CSV (displacement mm, force N) to fit instead of a set; needs --nu
+        #[arg(long, conflicts_with_all = ["data", "set"], requires = "nu")]
+        forces: Option<PathBuf>,
+        /// Fix Poisson's ratio instead of fitting it to the profiles
+        #[arg(long)]
+        nu: Option<f64>,
         #[arg(long, default_value = "report/identify")]
         out: PathBuf,
     },
@@ -112,7 +119,14 @@ fn default_report(out: &Path) -> Result<PathBuf> {
     let mut report = Report::create(out, "tissuefmu report on built-in defaults")?;
     verify(&mut report)?;
     let data = Path::new(REPO).join("experiments/data/cutblock");
-    identify_report::run(&mut report, &data, "A")?;
+    identify_report::run(
+        &mut report,
+        Data::Set {
+            dir: &data,
+            set: "A",
+        },
+        None,
+    )?;
     speed_error_report::run(&mut report)?;
     let e = Experiment::load(&Path::new(REPO).join("experiments/pelvis_sweep.toml"))?;
     report.heading(&format!("Pelvis sweep ({} cases)", e.cases.len()));
@@ -129,8 +143,20 @@ fn default_report(out: &Path) -> Result<PathBuf> {
     report.finish()
 }
 
-fn main() -> Result<()> {
-    let cli = Cli::parse();
+fn main() -> std::process::ExitCode {
+    match run(Cli::parse()) {
+        Ok(path) => {
+            println!("\nwritten to {}", path.display());
+            std::process::ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<PathBuf> {
     let path = match cli.command.unwrap_or(Command::Report {
         out: PathBuf::from("report/default"),
     }) {
@@ -141,9 +167,22 @@ fn main() -> Result<()> {
             jobs,
             plan_only,
         } => sweep(&experiment, out, jobs, plan_only)?,
-        Command::Identify { data, set, out } => {
+        Command::Identify {
+            data,
+            set,
+            forces,
+            nu,
+            out,
+        } => {
             let mut r = Report::create(&out, "Material identification")?;
-            identify_report::run(&mut r, &data, &set)?;
+            let what = match &forces {
+                Some(path) => Data::Forces(path),
+                None => Data::Set {
+                    dir: &data,
+                    set: &set,
+                },
+            };
+            identify_report::run(&mut r, what, nu)?;
             r.finish()?
         }
         Command::SpeedError { out } => {
@@ -162,6 +201,5 @@ fn main() -> Result<()> {
             r.finish()?
         }
     };
-    println!("\nwritten to {}", path.display());
-    Ok(())
+    Ok(path)
 }
