@@ -14,12 +14,12 @@ use anyhow::{bail, ensure, Result};
 use rand::rngs::StdRng;
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use crate::experiment::{Case, Value};
 
 /// The kind of a block.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Design {
     List,
@@ -85,6 +85,8 @@ pub fn expand(blocks: &[Block]) -> Result<Vec<Case>> {
     if blocks.is_empty() {
         return Ok(vec![Case {
             id: 0,
+            block: 0,
+            design: Design::List,
             values: BTreeMap::new(),
         }]);
     }
@@ -106,6 +108,8 @@ pub fn expand(blocks: &[Block]) -> Result<Vec<Case>> {
         for values in points {
             cases.push(Case {
                 id: cases.len(),
+                block: b,
+                design: block.design,
                 values,
             });
         }

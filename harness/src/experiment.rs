@@ -172,6 +172,9 @@ pub struct Experiment {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Case {
     pub id: usize,
+    /// The `[[sweep]]` block it comes from and that block's design.
+    pub block: usize,
+    pub design: crate::design::Design,
     pub values: BTreeMap<String, Value>,
 }
 

@@ -402,3 +402,79 @@ fn draw_colour_bar<DB: DrawingBackend>(
         .map_err(fail)?;
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn files(stem: &Path) -> (Vec<u8>, String) {
+        (
+            std::fs::read(stem.with_extension("png")).unwrap(),
+            std::fs::read_to_string(stem.with_extension("svg")).unwrap(),
+        )
+    }
+
+    #[test]
+    fn charts_are_written_as_png_and_svg_with_their_labels() {
+        let dir = tempfile::tempdir().unwrap();
+        let stem = dir.path().join("c");
+        let line: Vec<(f64, f64)> = (1..20)
+            .map(|i| (f64::from(i), 1.0 / f64::from(i)))
+            .collect();
+        chart(
+            &stem,
+            &Chart {
+                title: "decay".into(),
+                x: Axis::log("run time (ms)"),
+                y: Axis::log("error (1)"),
+                curves: vec![Curve::new("1/x", line, Mark::LineDots)],
+            },
+        )
+        .unwrap();
+        let (png, svg) = files(&stem);
+        assert_eq!(&png[1..4], b"PNG");
+        for text in ["decay", "run time (ms)", "error (1)", "1/x", "1.0e1"] {
+            assert!(svg.contains(text), "{text} missing from the SVG");
+        }
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            2,
+            "no temporaries left"
+        );
+    }
+
+    #[test]
+    fn categorical_axes_name_their_positions() {
+        let a = Axis {
+            categories: Some(vec!["normal".into(), "wide".into()]),
+            ..Axis::linear("configuration")
+        };
+        assert_eq!(a.tick(1.0), "wide");
+        assert_eq!(a.tick(0.5), "");
+        assert_eq!(Axis::linear("x").tick(0.0055), "5.50e-3");
+    }
+
+    #[test]
+    fn mesh_maps_colour_every_triangle() {
+        let dir = tempfile::tempdir().unwrap();
+        let stem = dir.path().join("m");
+        let nodes = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        mesh_map(
+            &stem,
+            &MeshMap {
+                title: "square".into(),
+                nodes: &nodes,
+                triangles: &[[0, 1, 2], [0, 2, 3]],
+                values: &[1.0, 2.0],
+                value_label: "stress (MPa)".into(),
+                lines: &[[0, 1]],
+                arrows: vec![(2, [0.1, 0.1])],
+                arrow_scale: 1.0,
+            },
+        )
+        .unwrap();
+        let (_, svg) = files(&stem);
+        assert!(svg.matches("<polygon").count() >= 2, "two triangles");
+        assert!(svg.contains("stress (MPa)"));
+    }
+}

@@ -34,6 +34,8 @@ pub enum Outcome {
 #[derive(Debug, Clone, PartialEq)]
 pub struct CaseResult {
     pub id: usize,
+    pub block: usize,
+    pub design: crate::design::Design,
     pub values: BTreeMap<String, Value>,
     pub outcome: Outcome,
 }
@@ -222,6 +224,8 @@ fn collect(e: &Experiment, dir: &Path) -> Result<Vec<CaseResult>> {
             };
             Ok(CaseResult {
                 id: c.id,
+                block: c.block,
+                design: c.design,
                 values: c.values.clone(),
                 outcome,
             })

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use harness::backend::Series;
+use harness::design::Design;
 use harness::experiment::{Experiment, Value, ANATOMY};
 use harness::plot::{self, Axis, Chart, Curve, Mark};
 use harness::report::Report;
@@ -81,13 +82,21 @@ pub fn run(e: &Experiment, dir: &Path) -> Result<(PathBuf, Vec<Vec<String>>)> {
     report.table(&header, &rows);
     let mut correlations = Vec::new();
     for name in &varied {
-        if let Some(line) = parameter_plot(&mut report, e, &s.results, name, j, &metric_label)? {
-            correlations.push(line);
-        }
+        correlations.extend(parameter_plot(
+            &mut report,
+            e,
+            &s.results,
+            name,
+            j,
+            &metric_label,
+        )?);
     }
     if !correlations.is_empty() {
-        report.text("Correlation of the metric's peak with each numeric parameter over the cases that vary it:");
-        report.table(&["parameter", "cases", "Pearson r"], &correlations);
+        report.text(
+            "Correlation of the metric's peak with each numeric parameter, per block of cases that \
+             varies it (in a Latin hypercube the other parameters vary too):",
+        );
+        report.table(&["parameter", "block", "cases", "Pearson r"], &correlations);
     }
     histories(&mut report, e, &s.results, &metric_unit)?;
     report.file("one row per case", "summary.csv");
@@ -121,7 +130,9 @@ fn case_row(r: &CaseResult, varied: &[String], j: usize) -> Vec<String> {
     row
 }
 
-/// Plots the metric's peak against one parameter; returns its correlation line if numeric.
+/// Plots the metric's peak against one parameter, one curve per `[[sweep]]` block that varies
+/// it (points joined for lists and grids, scattered for Latin hypercubes); returns one
+/// correlation line per block with numeric values.
 fn parameter_plot(
     report: &mut Report,
     e: &Experiment,
@@ -129,31 +140,51 @@ fn parameter_plot(
     name: &str,
     j: usize,
     metric_label: &str,
-) -> Result<Option<Vec<String>>> {
-    let cases: Vec<(&Value, f64)> = results
-        .iter()
-        .filter_map(|r| Some((r.values.get(name)?, r.peak(j)?)))
-        .collect();
+) -> Result<Vec<Vec<String>>> {
     let mut categories: Vec<String> = Vec::new();
-    let points: Vec<(f64, f64)> = cases
-        .iter()
-        .map(|(v, y)| match v {
-            Value::Real(x) => (*x, *y),
+    let mut blocks: Vec<(usize, Design, Vec<(f64, f64)>)> = Vec::new();
+    for r in results {
+        let (Some(v), Some(y)) = (r.values.get(name), r.peak(j)) else {
+            continue;
+        };
+        let x = match v {
+            Value::Real(x) => *x,
             Value::Text(t) => {
                 if !categories.contains(t) {
                     categories.push(t.clone());
                 }
-                (
-                    categories.iter().position(|c| c == t).unwrap_or(0) as f64,
-                    *y,
-                )
+                categories.iter().position(|c| c == t).unwrap_or(0) as f64
             }
-        })
-        .collect();
-    if points.is_empty() {
-        return Ok(None);
+        };
+        match blocks.iter_mut().find(|b| b.0 == r.block) {
+            Some(b) => b.2.push((x, y)),
+            None => blocks.push((r.block, r.design, vec![(x, y)])),
+        }
+    }
+    if blocks.is_empty() {
+        return Ok(Vec::new());
     }
     let numeric = categories.is_empty();
+    let mut curves = Vec::new();
+    let mut lines = Vec::new();
+    for (k, (block, design, mut points)) in blocks.into_iter().enumerate() {
+        let label = format!("sweep[{block}], {design:?} ({} cases)", points.len());
+        let mark = if design == Design::LatinHypercube {
+            Mark::Dots
+        } else {
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            Mark::LineDots
+        };
+        if numeric && points.len() > 2 {
+            lines.push(vec![
+                name.to_string(),
+                format!("sweep[{block}], {design:?}"),
+                points.len().to_string(),
+                format!("{:+.3}", correlation(&points)),
+            ]);
+        }
+        curves.push(Curve::new(&label, points, mark).colour(k));
+    }
     let x = Axis {
         label: if numeric {
             format!("{name} ({})", unit(e, name))
@@ -170,21 +201,11 @@ fn parameter_plot(
             title: format!("{}: {} against {name}", e.name, e.metric),
             x,
             y: Axis::linear(metric_label),
-            curves: vec![Curve::new(
-                &format!("{} cases", points.len()),
-                points.clone(),
-                Mark::Dots,
-            )],
+            curves,
         },
     )?;
     report.figure(&format!("Peak {} against {name}", e.metric), &stem);
-    Ok((numeric && points.len() > 2).then(|| {
-        vec![
-            name.to_string(),
-            points.len().to_string(),
-            format!("{:+.3}", correlation(&points)),
-        ]
-    }))
+    Ok(lines)
 }
 
 /// The metric over time for the first finished cases (at most 6).
