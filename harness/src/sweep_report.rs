@@ -142,7 +142,9 @@ fn parameter_plot(
     metric_label: &str,
 ) -> Result<Vec<Vec<String>>> {
     let mut categories: Vec<String> = Vec::new();
-    let mut blocks: Vec<(usize, Design, Vec<(f64, f64)>)> = Vec::new();
+    // (block, its design, (x, peak) of its cases)
+    type Block = (usize, Design, Vec<(f64, f64)>);
+    let mut blocks: Vec<Block> = Vec::new();
     for r in results {
         let (Some(v), Some(y)) = (r.values.get(name), r.peak(j)) else {
             continue;
