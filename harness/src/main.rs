@@ -136,7 +136,7 @@ fn default_report(out: &Path) -> Result<PathBuf> {
         path.display()
     ));
     report.table(
-        &["parameter", "cases", "Pearson r with the peak"],
+        &["parameter", "block", "cases", "Pearson r with the peak"],
         &correlations,
     );
     fields_report::run(&mut report)?;
