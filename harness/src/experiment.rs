@@ -297,20 +297,21 @@ impl Experiment {
     }
 
     /// The settings of a case: base parameters overridden by the case's values, with any
-    /// `anatomy.*` values turned into a generated configuration file in `configs`.
-    pub fn settings(&self, case: &Case, configs: &Path) -> Result<Vec<(String, Value)>> {
+    /// `anatomy.*` values turned into a configuration file in `configs` — returned as its
+    /// path and TOML text for the caller to write.
+    pub fn settings(&self, case: &Case, configs: &Path) -> Result<Settings> {
         let mut merged = self.parameters.clone();
         merged.extend(case.values.clone());
         let mut anatomy = Anatomy::default();
         let mut generated = false;
-        let mut settings = Vec::new();
+        let mut settings = Settings::default();
         for (name, value) in merged {
             match (name.strip_prefix(ANATOMY), &value) {
                 (Some(field), Value::Real(x)) => {
                     set_anatomy(&mut anatomy, field, *x)?;
                     generated = true;
                 }
-                _ => settings.push((name, value)),
+                _ => settings.values.push((name, value)),
             }
         }
         if generated {
@@ -320,16 +321,22 @@ impl Experiment {
                 control_points: None,
                 anatomy: Some(anatomy),
             };
-            std::fs::create_dir_all(configs)?;
             let path = std::path::absolute(configs.join(format!("case_{:04}.toml", case.id)))?;
-            crate::report::write_atomic(&path, toml::to_string(&config)?.as_bytes())?;
-            settings.push((
+            settings.values.push((
                 "configuration".into(),
                 Value::Text(path.display().to_string()),
             ));
+            settings.config = Some((path, toml::to_string(&config)?));
         }
         Ok(settings)
     }
+}
+
+/// What a case sets before initialization, and the configuration file it needs written.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Settings {
+    pub values: Vec<(String, Value)>,
+    pub config: Option<(PathBuf, String)>,
 }
 
 fn find<'a>(table: &'a [Variable], name: &str) -> Result<&'a Variable> {
@@ -455,13 +462,11 @@ ranges = { "anatomy.outlet" = { min = 100.0, max = 130.0, levels = 3 } }
         assert_eq!(e.steps(), 10);
         assert_eq!(e.metric, "floor_stress_max");
         assert_eq!(e.varied(), ["configuration", "anatomy.outlet"]);
-        let dir = tempfile::tempdir().unwrap();
-        let s = e.settings(&e.cases[3], dir.path()).unwrap();
-        let config = s.iter().find(|(n, _)| n == "configuration").unwrap();
-        let Value::Text(path) = &config.1 else {
-            panic!("configuration is a path")
-        };
-        let text = std::fs::read_to_string(path).unwrap();
+        let s = e.settings(&e.cases[3], Path::new("/runs/configs")).unwrap();
+        let config = s.values.iter().find(|(n, _)| n == "configuration").unwrap();
+        assert_eq!(config.1, Value::Text("/runs/configs/case_0003.toml".into()));
+        let (path, text) = s.config.unwrap();
+        assert_eq!(path, Path::new("/runs/configs/case_0003.toml"));
         assert!(text.contains("outlet = 115.0"), "{text}");
     }
 

@@ -133,6 +133,7 @@ pub fn cutblock(path: &Path, mesh: &Mesh3d, material: &Elastic, u: &[f64]) -> Re
 #[cfg(test)]
 mod tests {
     use super::*;
+    use models::scene::abdomen::Abdomen;
     use models::scene::cutblock::CutBlock;
     use models::scene::Scene;
     use vtkio::model::IOBuffer;
@@ -167,5 +168,39 @@ mod tests {
         };
         assert_eq!(read, u);
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    /// Triangles and membrane lines both arrive, each with its stress and tissue.
+    #[test]
+    fn abdomen_writes_triangles_and_lines_with_their_tissue() {
+        let mut a = Abdomen::new();
+        a.set("target_triangles", 300.0).unwrap();
+        a.initialize().unwrap();
+        let u = a.static_displacement(0.5).unwrap();
+        let (mesh, props, _) = a.field().unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("abdomen.vtu");
+        abdomen(&path, mesh, props, &u).unwrap();
+        let DataSet::UnstructuredGrid { pieces, .. } = Vtk::import(&path).unwrap().data else {
+            panic!("an unstructured grid")
+        };
+        let piece = pieces[0].load_piece_data(None).unwrap();
+        let (tris, lines) = (mesh.triangles().len(), mesh.lines().len());
+        assert_eq!(piece.cells.types.len(), tris + lines);
+        assert_eq!(piece.cells.types[tris], CellType::Line);
+        let Attribute::DataArray(t) = &piece.data.cell[1] else {
+            panic!("tissue is a data array")
+        };
+        let IOBuffer::F64(tissue) = &t.data else {
+            panic!("f64 data")
+        };
+        assert!(tissue[..tris].iter().all(|&x| x == 0.0));
+        for region in 1..=3 {
+            let n = tissue[tris..]
+                .iter()
+                .filter(|&&x| x == f64::from(region))
+                .count();
+            assert!(n > 0, "membrane {region} has lines");
+        }
     }
 }

@@ -2,9 +2,9 @@
 //! (indicatif). Each finished case is written atomically to `cases/case_NNNN.csv`, a failed
 //! one to `cases/case_NNNN.error` with its message, so that an interrupted sweep, run again
 //! on the same folder, skips the finished cases, retries the failed ones and loses nothing.
-//! The folder also holds the experiment as run, the case plan (`plan.csv`; a re-run with a
-//! different plan is refused), `plan.json` (the resolved settings of every case, which the
-//! Dask runner in `harness/python/` reads) and `summary.csv` (one row per case).
+//! The folder also holds the experiment as run, the case plan (`plan.csv`), `plan.json` (the
+//! resolved settings of every case, which the Dask runner in `harness/python/` reads; a re-run
+//! whose plan differs is refused) and `summary.csv` (one row per case).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -85,31 +85,18 @@ fn plan_csv(e: &Experiment) -> Result<Vec<u8>> {
     Ok(w.into_inner()?)
 }
 
-/// Prepares the folder without running anything: refuses a different plan already there,
-/// writes the experiment, the plan, `plan.json` and the generated configuration files.
+/// Prepares the folder without running anything: refuses a folder that holds a different
+/// plan (cases, settings, inputs, outputs, times: anything that changes results), then writes
+/// the experiment, `plan.csv`, `plan.json` and the generated configuration files. Returns
+/// each case's settings.
 pub fn prepare(e: &Experiment, dir: &Path) -> Result<Vec<Vec<(String, Value)>>> {
-    std::fs::create_dir_all(dir.join("cases"))
-        .with_context(|| format!("cannot create {}", dir.display()))?;
-    let plan = plan_csv(e)?;
-    let plan_path = dir.join("plan.csv");
-    if let Ok(old) = std::fs::read(&plan_path) {
-        if old != plan {
-            bail!(
-                "{} holds a sweep with a different case plan; choose another output folder \
-                 or delete that one",
-                dir.display()
-            );
-        }
-    }
-    write_atomic(&dir.join("experiment.toml"), e.source.as_bytes())?;
-    write_atomic(&plan_path, &plan)?;
     let configs = dir.join("configs");
     let settings = e
         .cases
         .iter()
         .map(|c| e.settings(c, &configs))
         .collect::<Result<Vec<_>>>()?;
-    let json = Plan {
+    let plan = Plan {
         scene: &e.scene,
         stop_time: e.stop_time,
         step: e.step,
@@ -121,15 +108,31 @@ pub fn prepare(e: &Experiment, dir: &Path) -> Result<Vec<Vec<(String, Value)>>> 
             .zip(&settings)
             .map(|(c, s)| PlanCase {
                 id: c.id,
-                settings: s.iter().cloned().collect(),
+                settings: s.values.iter().cloned().collect(),
             })
             .collect(),
     };
-    write_atomic(
-        &dir.join("plan.json"),
-        serde_json::to_string_pretty(&json)?.as_bytes(),
-    )?;
-    Ok(settings)
+    let json = serde_json::to_string_pretty(&plan)?;
+    let json_path = dir.join("plan.json");
+    if let Ok(old) = std::fs::read_to_string(&json_path) {
+        if old != json {
+            bail!(
+                "{} holds a sweep with a different plan (cases, settings, inputs, outputs or \
+                 times); choose another output folder or delete that one",
+                dir.display()
+            );
+        }
+    }
+    std::fs::create_dir_all(dir.join("cases"))
+        .with_context(|| format!("cannot create {}", dir.display()))?;
+    for (path, text) in settings.iter().filter_map(|s| s.config.as_ref()) {
+        std::fs::create_dir_all(&configs)?;
+        write_atomic(path, text.as_bytes())?;
+    }
+    write_atomic(&dir.join("experiment.toml"), e.source.as_bytes())?;
+    write_atomic(&dir.join("plan.csv"), &plan_csv(e)?)?;
+    write_atomic(&json_path, json.as_bytes())?;
+    Ok(settings.into_iter().map(|s| s.values).collect())
 }
 
 fn progress(n: usize) -> ProgressBar {

@@ -109,11 +109,17 @@ fn failures_are_recorded_and_resuming_reruns_only_missing_cases() {
         .collect();
     assert!(leftovers.is_empty(), "{leftovers:?}");
 
-    // Another plan in the same folder is refused.
-    let other = write_experiment(tmp.path(), &EXPERIMENT.replace("levels = 3", "levels = 4"));
-    let o = sweep(&other, &out);
-    assert!(!o.status.success());
-    assert!(String::from_utf8_lossy(&o.stderr).contains("different case plan"));
+    // Another plan in the same folder is refused: other cases, or the same cases run longer.
+    for change in [
+        ("levels = 3", "levels = 4"),
+        ("stop_time = 0.2", "stop_time = 0.4"),
+    ] {
+        let other = write_experiment(tmp.path(), &EXPERIMENT.replace(change.0, change.1));
+        let o = sweep(&other, &out);
+        assert!(!o.status.success(), "{change:?}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains("different plan"));
+    }
+    assert_eq!(summary(&out), text, "the refused runs changed nothing");
 }
 
 #[test]
