@@ -169,9 +169,20 @@ pub fn run(e: &Experiment, dir: &Path) -> Result<Sweep> {
     let bar = progress(pending.len());
     pool.install(|| {
         pending.par_iter().try_for_each(|&id| -> Result<()> {
-            let run = backend
-                .open()
-                .and_then(|mut s| simulate(s.as_mut(), e, &settings[id]));
+            // A panic in one case is recorded as its failure, like an error.
+            let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                backend
+                    .open()
+                    .and_then(|mut s| simulate(s.as_mut(), e, &settings[id]))
+            }))
+            .unwrap_or_else(|panic| {
+                let what = panic
+                    .downcast_ref::<String>()
+                    .map(String::as_str)
+                    .or_else(|| panic.downcast_ref::<&str>().copied())
+                    .unwrap_or("unknown panic");
+                Err(anyhow::anyhow!("the case panicked: {what}"))
+            });
             let error = case_path(dir, id, "error");
             match run {
                 Ok(series) => {
