@@ -17,7 +17,9 @@ use std::path::Path;
 use anyhow::{bail, Context, Result};
 use argmin::core::{CostFunction, Error as ArgminError, Executor};
 use argmin::solver::brent::BrentOpt;
-use models::scene::cutblock::{CutBlock, PROFILE_LINES, PROFILE_STATIONS, PROFILE_STEP};
+use models::scene::cutblock::{CutBlock, PROFILE_LINES, PROFILE_STATIONS};
+
+use crate::profiles::{deviation, Deviation};
 use models::scene::Scene;
 
 /// A measurement set: force–displacement points and the top profiles at the largest pull.
@@ -107,38 +109,6 @@ pub fn response(nu: f64, pull: f64) -> Result<Response> {
         force_per_e_mm,
         profiles,
     })
-}
-
-/// Deviation of one profile line from the data: RMS, largest |Δz|, points compared.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Deviation {
-    pub rms: f64,
-    pub max: f64,
-    pub points: usize,
-}
-
-/// Compares model heights at the stations with data points (data y must fall on stations).
-pub fn deviation(model: &[f64], data: &[(f64, f64)]) -> Deviation {
-    let (mut sum, mut max, mut points) = (0.0, 0.0f64, 0);
-    for &(y, z) in data {
-        let i = (y / PROFILE_STEP).round();
-        if i < 0.0 || (i * PROFILE_STEP - y).abs() > 1e-9 {
-            continue;
-        }
-        match model.get(i as usize) {
-            Some(m) if m.is_finite() => {
-                sum += (m - z) * (m - z);
-                max = max.max((m - z).abs());
-                points += 1;
-            }
-            _ => {}
-        }
-    }
-    Deviation {
-        rms: (sum / points.max(1) as f64).sqrt(),
-        max,
-        points,
-    }
 }
 
 fn profile_rms(r: &Response, m: &Measurements) -> f64 {
@@ -244,7 +214,7 @@ mod tests {
             p.iter()
                 .enumerate()
                 .filter(|(_, z)| z.is_finite())
-                .map(|(i, z)| (i as f64 * PROFILE_STEP, *z))
+                .map(|(i, z)| (i as f64 * models::scene::cutblock::PROFILE_STEP, *z))
                 .collect()
         });
         Measurements {

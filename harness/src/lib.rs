@@ -10,6 +10,7 @@ pub mod fields;
 pub mod fmu_backend;
 pub mod identify;
 pub mod plot;
+pub mod profiles;
 pub mod report;
 pub mod speed_error;
 pub mod sweep;
