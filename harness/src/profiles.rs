@@ -40,7 +40,7 @@ fn height(model: &[f64], y: f64) -> Option<f64> {
         return a.is_finite().then_some(a);
     }
     let b = *model.get(i + 1)?;
-    (a.is_finite() && b.is_finite()).then(|| a + w * (b - a))
+    (a.is_finite() && b.is_finite()).then_some(a + w * (b - a))
 }
 
 /// Residuals data − model for the data shifted by (dy, dz), where the model has a surface.
