@@ -28,7 +28,7 @@ use std::path::PathBuf;
 
 use config::PelvisConfig;
 use mesher::Meshed;
-use outputs::Outputs;
+use outputs::OutputPlan;
 
 use super::{Scene, SceneError, Values, Variability, Variable};
 use crate::assembly::plane::{self, Continuum, PlaneProperties, Truss};
@@ -227,6 +227,7 @@ struct Model {
     u_full: Vec<f64>,
     /// Stress operators of the triangles for the current properties.
     stresses: TriangleStresses,
+    outputs: OutputPlan,
 }
 
 impl std::fmt::Debug for Model {
@@ -243,7 +244,8 @@ pub struct Abdomen {
     values: Values,
     resources: PathBuf,
     model: Option<Model>,
-    outputs: Option<Outputs>,
+    /// The outputs after the last step, once requested.
+    outputs: Option<[f64; outputs::COUNT]>,
     stiffness_changed: bool,
     time: f64,
 }
@@ -326,10 +328,10 @@ impl Abdomen {
     /// dofs, e.g. one from [`Abdomen::static_displacement`].
     pub fn evaluate(&self, u_full: &[f64], press: f64) -> Result<Vec<f64>, SceneError> {
         let m = self.model.as_ref().ok_or_else(not_initialized)?;
-        let outputs = Outputs::compute(&m.meshed.mesh, &m.props, &m.stresses, u_full, press);
-        Ok((0..self.values.table().len() - FIRST_OUTPUT as usize)
-            .map(|i| outputs.get(i))
-            .collect())
+        let outputs = m
+            .outputs
+            .compute(&m.meshed.mesh, &m.props, &m.stresses, u_full, press);
+        Ok(outputs.to_vec())
     }
 
     fn properties(&self) -> Result<PlaneProperties, SceneError> {
@@ -396,6 +398,7 @@ impl Abdomen {
         let kind = IntegratorKind::parse(self.values.string(INTEGRATOR)?)?;
         Ok(Model {
             stresses: TriangleStresses::new(mesh, &props),
+            outputs: OutputPlan::new(mesh)?,
             u_full: vec![0.0; mesh.n_dofs()],
             meshed,
             props,
@@ -490,9 +493,10 @@ impl Scene for Abdomen {
         let press = self.press(self.time);
         let m = self.model.as_ref().ok_or_else(not_initialized)?;
         let outputs = self.outputs.get_or_insert_with(|| {
-            Outputs::compute(&m.meshed.mesh, &m.props, &m.stresses, &m.u_full, press)
+            m.outputs
+                .compute(&m.meshed.mesh, &m.props, &m.stresses, &m.u_full, press)
         });
-        out[0] = outputs.get((vr - FIRST_OUTPUT) as usize);
+        out[0] = outputs[(vr - FIRST_OUTPUT) as usize];
         Ok(())
     }
 
