@@ -139,9 +139,15 @@ fn progress(n: usize) -> ProgressBar {
     let bar = ProgressBar::new(n as u64);
     bar.set_style(
         ProgressStyle::with_template(
-            "{elapsed_precise} [{bar:30}] {pos}/{len} cases, {per_sec}, ETA {eta}",
+            "{elapsed_precise} [{bar:30}] {pos}/{len} cases, {rate}, ETA {eta}",
         )
         .expect("the template is valid")
+        .with_key(
+            "rate",
+            |s: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                let _ = write!(w, "{:.2} cases/s", s.per_sec());
+            },
+        )
         .progress_chars("=> "),
     );
     bar
