@@ -1,0 +1,79 @@
+//! The report commands end to end: each writes its folder with the files its report links,
+//! and the shipped experiment files load.
+
+use std::path::Path;
+use std::process::Command;
+
+use harness::experiment::Experiment;
+
+fn harness(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_harness"))
+        .args(args)
+        .output()
+        .expect("the harness binary runs")
+}
+
+fn assert_files(dir: &Path, files: &[&str]) {
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    for f in files {
+        assert!(dir.join(f).is_file(), "{f} missing");
+        assert!(report.contains(f), "report.md does not link {f}");
+    }
+}
+
+#[test]
+fn fields_writes_the_stress_map_and_both_vtu_files() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("fields");
+    let o = harness(&["fields", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("report.md"));
+    assert_files(
+        &out,
+        &[
+            "abdomen_stress.png",
+            "abdomen_stress.svg",
+            "abdomen.vtu",
+            "cutblock.vtu",
+        ],
+    );
+}
+
+#[test]
+fn identify_fits_a_force_file_at_a_given_nu_and_refuses_a_bad_one() {
+    let tmp = tempfile::tempdir().unwrap();
+    let forces = tmp.path().join("f.csv");
+    // Forces of a linear material: the fit's residual must vanish.
+    let mut text = String::from("displacement_mm,force_N\n");
+    for d in 0..=5 {
+        text += &format!("{d},{}\n", 0.8 * f64::from(d));
+    }
+    std::fs::write(&forces, text).unwrap();
+    let out = tmp.path().join("id");
+    let args = [
+        "identify",
+        "--forces",
+        forces.to_str().unwrap(),
+        "--nu",
+        "0.45",
+    ];
+    let o = harness(&[&args[..], &["--out", out.to_str().unwrap()]].concat());
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(stdout.contains("Force RMS residual 0.0000 N"), "{stdout}");
+    assert_files(&out, &["force_displacement.png", "force_displacement.svg"]);
+
+    std::fs::write(&forces, "displacement_mm,force_N\n1,abc\n").unwrap();
+    let o = harness(&[&args[..], &["--out", out.to_str().unwrap()]].concat());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(err.contains("f.csv") && err.contains("row 1"), "{err}");
+}
+
+#[test]
+fn shipped_experiments_load() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../experiments");
+    let e = Experiment::load(&dir.join("pelvis_sweep.toml")).unwrap();
+    assert_eq!(e.cases.len(), 5 + 32 + 5 * 5);
+    assert_eq!(e.metric, "floor_stress_max");
+}
