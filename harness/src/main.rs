@@ -18,8 +18,11 @@ use harness::experiment::Experiment;
 use harness::report::Report;
 use identify_report::Data;
 
-/// The repository folder (for the shipped experiments and data).
-const REPO: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+/// The shipped experiments and data, in the repository this harness was built from.
+fn experiments() -> PathBuf {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../experiments");
+    dir.canonicalize().unwrap_or(dir)
+}
 
 #[derive(Parser)]
 #[command(
@@ -57,8 +60,10 @@ enum Command {
     /// Fits E (and ν, from laser profiles) of the cut block to measurements
     Identify {
         /// Folder with force_displacement_<set>.csv and profile_<set>_x25/50/75.csv
-        #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../experiments/data/cutblock"))]
-        data: PathBuf,
+        /// [default: the shipped experiments/data/cutblock]
+        #[arg(long)]
+        data: Option<PathBuf>,
+        /// Name of the measurement set in the folder
         #[arg(long, default_value = "A")]
         set: String,
         /// A force–displacement CSV (displacement mm, force N) to fit instead of a set; needs --nu
@@ -118,7 +123,7 @@ fn sweep(
 fn default_report(out: &Path) -> Result<PathBuf> {
     let mut report = Report::create(out, "tissuefmu report on built-in defaults")?;
     verify(&mut report)?;
-    let data = Path::new(REPO).join("experiments/data/cutblock");
+    let data = experiments().join("data/cutblock");
     identify_report::run(
         &mut report,
         Data::Set {
@@ -128,13 +133,21 @@ fn default_report(out: &Path) -> Result<PathBuf> {
         None,
     )?;
     speed_error_report::run(&mut report)?;
-    let e = Experiment::load(&Path::new(REPO).join("experiments/pelvis_sweep.toml"))?;
+    let e = Experiment::load(&experiments().join("pelvis_sweep.toml"))?;
     report.heading(&format!("Pelvis sweep ({} cases)", e.cases.len()));
     let (path, correlations) = sweep_report::run(&e, &report.path("pelvis_sweep"))?;
     report.text(&format!(
         "Full sweep report: [pelvis_sweep/report.md](pelvis_sweep/report.md) ({}).",
         path.display()
     ));
+    report.figure(
+        "Peak pelvic-floor stress for the shipped configurations",
+        "pelvis_sweep/metric_vs_configuration",
+    );
+    report.figure(
+        "Peak pelvic-floor stress against the pelvic outlet (grid: others at their defaults)",
+        "pelvis_sweep/metric_vs_anatomy_outlet",
+    );
     report.table(
         &["parameter", "block", "cases", "Pearson r with the peak"],
         &correlations,
@@ -175,10 +188,11 @@ fn run(cli: Cli) -> Result<PathBuf> {
             out,
         } => {
             let mut r = Report::create(&out, "Material identification")?;
+            let dir = data.unwrap_or_else(|| experiments().join("data/cutblock"));
             let what = match &forces {
                 Some(path) => Data::Forces(path),
                 None => Data::Set {
-                    dir: &data,
+                    dir: &dir,
                     set: &set,
                 },
             };
