@@ -53,6 +53,16 @@ impl FmuBackend {
         if log::set_logger(&CAPTURE).is_ok() {
             log::set_max_level(log::LevelFilter::Warn);
         }
+        let version = fmi::import::peek_descr_path(path)
+            .with_context(|| format!("cannot read FMU {}", path.display()))?
+            .fmi_version;
+        if !version.starts_with("2.") {
+            bail!(
+                "`fmu`: {} is an FMI {version} FMU; the FMU backend imports FMI 2.0 \
+                 co-simulation FMUs (the bundler writes <model>-fmi2.fmu)",
+                path.display()
+            );
+        }
         let import: Fmi2Import = fmi::import::from_path(path)
             .with_context(|| format!("cannot load FMU {}", path.display()))?;
         let md = import.model_description();

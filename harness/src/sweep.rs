@@ -156,8 +156,8 @@ fn progress(n: usize) -> ProgressBar {
 /// Runs every case not yet finished in `dir`, then writes `summary.csv`.
 pub fn run(e: &Experiment, dir: &Path) -> Result<Sweep> {
     let start = Instant::now();
-    let settings = prepare(e, dir)?;
     let backend = Backend::new(e)?;
+    let settings = prepare(e, dir)?;
     let pending: Vec<usize> = e
         .cases
         .iter()

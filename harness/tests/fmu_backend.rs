@@ -120,3 +120,20 @@ fn abdomen_through_the_fmu_equals_in_process_and_reports_the_fmu_error() {
     };
     assert!(message.contains("no_such_pelvis"), "{message}");
 }
+
+#[test]
+fn an_fmi3_file_is_refused_with_a_clear_message() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = CUTBLOCK.replacen(
+        "\nrecord",
+        &format!(
+            "\nbackend = \"fmu\"\nfmu = {:?}\nrecord",
+            fmu("cutblock-fmi3.fmu")
+        ),
+        1,
+    );
+    let e = Experiment::parse(&text, tmp.path()).unwrap();
+    let err = format!("{:#}", sweep::run(&e, &tmp.path().join("out")).unwrap_err());
+    assert!(err.contains("FMI 3.0") && err.contains("fmi2"), "{err}");
+    assert!(!tmp.path().join("out").exists(), "nothing written");
+}
