@@ -6,11 +6,14 @@
 //! product E · c(ν) — E and ν trade off exactly, as seed 002 ch. 4 found — while the profiles
 //! fix ν alone. The fit therefore takes ν from the profiles (Brent's method from argmin on the
 //! RMS profile deviation) and then E from the forces by linear least squares, with its
-//! standard error; a scan over ν shows how the force-only estimate of E moves with ν.
+//! standard error; a scan over ν shows how the force-only estimate of E moves with ν. This
+//! two-stage fit is the joint least-squares fit of forces and profiles: for every ν the force
+//! residual at its best E is the same, so the joint minimum over (E, ν) lies at the ν that
+//! minimizes the profile misfit. With `fixed_nu` (or without profiles) only E is fitted.
 //!
-//! Profiles are compared in lab coordinates, the frame both the scanner data and the model's
-//! stations use (clamped edge at y = 0): no alignment offset is fitted. Stations where either
-//! side has no surface (the open cut) are skipped.
+//! Profiles are compared in lab coordinates (`crate::profiles`), the frame both the scanner
+//! data and the model's stations use (clamped edge at y = 0); points where the model has no
+//! surface (the open cut) are skipped.
 
 use std::path::Path;
 
