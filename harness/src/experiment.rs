@@ -32,6 +32,9 @@
 //! ranges = { "anatomy.outlet" = { min = 95.0, max = 135.0 }, wall_E = { min = 0.01, max = 0.1, log = true } }
 //! ```
 //!
+//! Inputs are sampled at the start of each communication step and held over it, as FMI
+//! importers do: the outputs at t + step respond to the inputs at t.
+//!
 //! Parameter names are the scene's parameters and inputs, plus, for the abdomen,
 //! `anatomy.<field>` for the fields of the outline generator
 //! ([`models::scene::abdomen::anatomy::Anatomy`]): a case that sets any of them gets a

@@ -120,6 +120,35 @@ fn sweep(
     Ok(sweep_report::run(&e, &dir)?.0)
 }
 
+/// The shipped sweeps the default report runs, with the parameters whose plots it shows
+/// inline (the rest are in each sweep's own report).
+const SHIPPED_SWEEPS: [(&str, &[&str]); 2] = [
+    ("pelvis_sweep", &["configuration", "anatomy.outlet"]),
+    ("cutblock_sweep", &["cut_depth"]),
+];
+
+/// Runs a shipped sweep into a subfolder and summarizes it in `report`.
+fn shipped_sweep(report: &mut Report, name: &str, shown: &[&str]) -> Result<()> {
+    let e = Experiment::load(&experiments().join(format!("{name}.toml")))?;
+    report.heading(&format!("Sweep `{name}` ({} cases)", e.cases.len()));
+    report.text(&e.description);
+    let (_, correlations) = sweep_report::run(&e, &report.path(name))?;
+    report.text(&format!(
+        "Full sweep report: [{name}/report.md]({name}/report.md)."
+    ));
+    for parameter in shown {
+        report.figure(
+            &format!("Peak {} against {parameter}", e.metric),
+            &format!("{name}/{}", sweep_report::plot_stem(parameter)),
+        );
+    }
+    report.table(
+        &["parameter", "cases of", "cases", "Pearson r with the peak"],
+        &correlations,
+    );
+    Ok(())
+}
+
 fn default_report(out: &Path) -> Result<PathBuf> {
     let mut report = Report::create(out, "tissuefmu report on built-in defaults")?;
     verify(&mut report)?;
@@ -133,25 +162,9 @@ fn default_report(out: &Path) -> Result<PathBuf> {
         None,
     )?;
     speed_error_report::run(&mut report)?;
-    let e = Experiment::load(&experiments().join("pelvis_sweep.toml"))?;
-    report.heading(&format!("Pelvis sweep ({} cases)", e.cases.len()));
-    let (path, correlations) = sweep_report::run(&e, &report.path("pelvis_sweep"))?;
-    report.text(&format!(
-        "Full sweep report: [pelvis_sweep/report.md](pelvis_sweep/report.md) ({}).",
-        path.display()
-    ));
-    report.figure(
-        "Peak pelvic-floor stress for the shipped configurations",
-        "pelvis_sweep/metric_vs_configuration",
-    );
-    report.figure(
-        "Peak pelvic-floor stress against the pelvic outlet (grid: others at their defaults)",
-        "pelvis_sweep/metric_vs_anatomy_outlet",
-    );
-    report.table(
-        &["parameter", "block", "cases", "Pearson r with the peak"],
-        &correlations,
-    );
+    for (name, shown) in SHIPPED_SWEEPS {
+        shipped_sweep(&mut report, name, shown)?;
+    }
     fields_report::run(&mut report)?;
     report.finish()
 }

@@ -30,6 +30,11 @@ fn unit(e: &Experiment, name: &str) -> String {
         .into()
 }
 
+/// The file stem of the plot of the metric against a parameter.
+pub fn plot_stem(parameter: &str) -> String {
+    format!("metric_vs_{}", parameter.replace('.', "_"))
+}
+
 /// Pearson's correlation coefficient.
 fn correlation(p: &[(f64, f64)]) -> f64 {
     let n = p.len() as f64;
@@ -93,10 +98,13 @@ pub fn run(e: &Experiment, dir: &Path) -> Result<(PathBuf, Vec<Vec<String>>)> {
     }
     if !correlations.is_empty() {
         report.text(
-            "Correlation of the metric's peak with each numeric parameter, per block of cases that \
+            "Correlation of the metric's peak with each numeric parameter, per group of cases that \
              varies it (in a Latin hypercube the other parameters vary too):",
         );
-        report.table(&["parameter", "block", "cases", "Pearson r"], &correlations);
+        report.table(
+            &["parameter", "cases of", "cases", "Pearson r"],
+            &correlations,
+        );
     }
     histories(&mut report, e, &s.results, &metric_unit)?;
     report.file("one row per case", "summary.csv");
@@ -130,9 +138,42 @@ fn case_row(r: &CaseResult, varied: &[String], j: usize) -> Vec<String> {
     row
 }
 
-/// Plots the metric's peak against one parameter, one curve per `[[sweep]]` block that varies
-/// it (points joined for lists and grids, scattered for Latin hypercubes); returns one
-/// correlation line per block with numeric values.
+/// Cases of one curve: a `[[sweep]]` block and, for lists and grids, one combination of
+/// the values of its other parameters.
+struct Group {
+    block: usize,
+    design: Design,
+    others: String,
+    points: Vec<(f64, f64)>,
+}
+
+impl Group {
+    fn name(&self) -> String {
+        let mut name = format!("sweep[{}], {:?}", self.block, self.design);
+        if !self.others.is_empty() {
+            name += &format!(", {}", self.others);
+        }
+        name
+    }
+}
+
+/// The other values of a list or grid case, as `a=1, b=x` (empty for a Latin hypercube,
+/// whose other values all differ).
+fn others(r: &CaseResult, name: &str) -> String {
+    if r.design == Design::LatinHypercube {
+        return String::new();
+    }
+    r.values
+        .iter()
+        .filter(|(k, _)| k.as_str() != name)
+        .map(|(k, v)| format!("{k}={v}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Plots the metric's peak against one parameter, one curve per [`Group`] (points joined
+/// for lists and grids, scattered for Latin hypercubes); returns one correlation line per
+/// group with numeric values.
 fn parameter_plot(
     report: &mut Report,
     e: &Experiment,
@@ -142,9 +183,7 @@ fn parameter_plot(
     metric_label: &str,
 ) -> Result<Vec<Vec<String>>> {
     let mut categories: Vec<String> = Vec::new();
-    // (block, its design, (x, peak) of its cases)
-    type Block = (usize, Design, Vec<(f64, f64)>);
-    let mut blocks: Vec<Block> = Vec::new();
+    let mut groups: Vec<Group> = Vec::new();
     for r in results {
         let (Some(v), Some(y)) = (r.values.get(name), r.peak(j)) else {
             continue;
@@ -158,34 +197,43 @@ fn parameter_plot(
                 categories.iter().position(|c| c == t).unwrap_or(0) as f64
             }
         };
-        match blocks.iter_mut().find(|b| b.0 == r.block) {
-            Some(b) => b.2.push((x, y)),
-            None => blocks.push((r.block, r.design, vec![(x, y)])),
+        let others = others(r, name);
+        match groups
+            .iter_mut()
+            .find(|g| g.block == r.block && g.others == others)
+        {
+            Some(g) => g.points.push((x, y)),
+            None => groups.push(Group {
+                block: r.block,
+                design: r.design,
+                others,
+                points: vec![(x, y)],
+            }),
         }
     }
-    if blocks.is_empty() {
+    if groups.is_empty() {
         return Ok(Vec::new());
     }
     let numeric = categories.is_empty();
     let mut curves = Vec::new();
     let mut lines = Vec::new();
-    for (k, (block, design, mut points)) in blocks.into_iter().enumerate() {
-        let label = format!("sweep[{block}], {design:?} ({} cases)", points.len());
-        let mark = if design == Design::LatinHypercube {
+    for (k, mut g) in groups.into_iter().enumerate() {
+        let mark = if g.design == Design::LatinHypercube {
             Mark::Dots
         } else {
-            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            g.points.sort_by(|a, b| a.0.total_cmp(&b.0));
             Mark::LineDots
         };
-        if numeric && points.len() > 2 {
+        if numeric && g.points.len() > 2 {
             lines.push(vec![
                 name.to_string(),
-                format!("sweep[{block}], {design:?}"),
-                points.len().to_string(),
-                format!("{:+.3}", correlation(&points)),
+                g.name(),
+                g.points.len().to_string(),
+                format!("{:+.3}", correlation(&g.points)),
             ]);
         }
-        curves.push(Curve::new(&label, points, mark).colour(k));
+        let label = format!("{} ({} cases)", g.name(), g.points.len());
+        curves.push(Curve::new(&label, g.points, mark).colour(k));
     }
     let x = Axis {
         label: if numeric {
@@ -196,7 +244,7 @@ fn parameter_plot(
         log: false,
         categories: (!numeric).then_some(categories),
     };
-    let stem = format!("metric_vs_{}", name.replace(['.', '/'], "_"));
+    let stem = plot_stem(name);
     plot::chart(
         &report.path(&stem),
         &Chart {

@@ -76,4 +76,6 @@ fn shipped_experiments_load() {
     let e = Experiment::load(&dir.join("pelvis_sweep.toml")).unwrap();
     assert_eq!(e.cases.len(), 5 + 32 + 5 * 5);
     assert_eq!(e.metric, "floor_stress_max");
+    let e = Experiment::load(&dir.join("cutblock_sweep.toml")).unwrap();
+    assert_eq!(e.cases.len(), 15);
 }
