@@ -33,6 +33,6 @@ if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
 fi
 .venv/bin/python -m pip install --quiet --disable-pip-version-check \
-    fmpy==0.3.32 pytest numpy "dask[distributed]==2026.8.0"
-echo "== FMUs in fmpy, and the Dask sweep runner on a local two-worker cluster"
+    fmpy==0.3.32 pytest numpy meshio==5.3.5 "dask[distributed]==2026.8.0"
+echo "== FMUs in fmpy, the Dask sweep runner on a local two-worker cluster, VTU files in meshio"
 .venv/bin/python -m pytest -q tests/python

@@ -37,7 +37,7 @@ fn write(path: &Path, title: &str, g: Grid) -> Result<()> {
         offsets.push(connectivity.len() as u64);
     }
     let vtk = Vtk {
-        version: Version::new((1, 0)),
+        version: Version::new(),
         title: title.into(),
         byte_order: ByteOrder::LittleEndian,
         file_path: None,
