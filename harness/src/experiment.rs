@@ -198,49 +198,14 @@ impl Experiment {
         let file: File = toml::from_str(text)?;
         let scene = scene::create(&file.scene).context("`scene`")?;
         let table = scene.variables();
-        ensure!(
-            file.stop_time.is_finite() && file.stop_time > 0.0,
-            "`stop_time` = {} must be positive",
-            file.stop_time
-        );
-        ensure!(
-            file.step.is_finite() && file.step > 0.0 && file.step <= file.stop_time,
-            "`step` = {} must be positive and at most `stop_time` = {}",
-            file.step,
-            file.stop_time
-        );
-        let steps = file.stop_time / file.step;
-        ensure!(
-            (steps - steps.round()).abs() < 1e-9 * steps,
-            "`stop_time` = {} is not a whole number of `step` = {}",
-            file.stop_time,
-            file.step
-        );
-        ensure!(!file.record.is_empty(), "`record` lists no outputs");
-        for (i, name) in file.record.iter().enumerate() {
-            check_output(table, name).with_context(|| format!("`record[{i}]`"))?;
-        }
-        let metric = file.metric.unwrap_or_else(|| file.record[0].clone());
-        ensure!(
-            file.record.contains(&metric),
-            "`metric` = \"{metric}\" is not one of the recorded outputs"
-        );
+        check_times(file.stop_time, file.step)?;
+        let metric = check_record(table, &file.record, file.metric.as_deref())?;
         for (name, value) in &file.parameters {
             check_value(&file.scene, table, name, value)
                 .with_context(|| format!("`parameters.{name}`"))?;
         }
         for (name, input) in &file.inputs {
-            let key = format!("inputs.{name}");
-            let v = find(table, name).with_context(|| format!("`{key}`"))?;
-            ensure!(
-                v.causality == Causality::Input,
-                "`{key}`: `{name}` is not an input of the {} scene",
-                file.scene
-            );
-            input.check(&key)?;
-            for &x in &input.value {
-                check_range(v, x).with_context(|| format!("`{key}.value`"))?;
-            }
+            check_input(&file.scene, table, name, input)?;
         }
         let cases = design::expand(&file.sweep)?;
         for case in &cases {
@@ -251,18 +216,7 @@ impl Experiment {
             check_anatomy_conflict(&file.parameters, &case.values)
                 .with_context(|| format!("`sweep` case {}", case.id))?;
         }
-        let fmu = match (file.backend, file.fmu) {
-            (BackendKind::Fmu, None) => bail!("`backend` = \"fmu\" needs `fmu`, the .fmu file"),
-            (BackendKind::Fmu, Some(p)) => {
-                let p = base.join(p);
-                ensure!(p.is_file(), "`fmu`: no file {}", p.display());
-                Some(std::path::absolute(&p)?)
-            }
-            (BackendKind::InProcess, Some(_)) => {
-                bail!("`fmu` is given but `backend` is \"in-process\"")
-            }
-            (BackendKind::InProcess, None) => None,
-        };
+        let fmu = check_backend(file.backend, file.fmu, base)?;
         Ok(Self {
             name: file.name,
             description: file.description,
@@ -340,6 +294,73 @@ impl Experiment {
 pub struct Settings {
     pub values: Vec<(String, Value)>,
     pub config: Option<(PathBuf, String)>,
+}
+
+/// Stop time and communication step: positive, and a whole number of steps.
+fn check_times(stop_time: f64, step: f64) -> Result<()> {
+    ensure!(
+        stop_time.is_finite() && stop_time > 0.0,
+        "`stop_time` = {stop_time} must be positive"
+    );
+    ensure!(
+        step.is_finite() && step > 0.0 && step <= stop_time,
+        "`step` = {step} must be positive and at most `stop_time` = {stop_time}"
+    );
+    let steps = stop_time / step;
+    ensure!(
+        (steps - steps.round()).abs() < 1e-9 * steps,
+        "`stop_time` = {stop_time} is not a whole number of `step` = {step}"
+    );
+    Ok(())
+}
+
+/// The recorded outputs exist and are scalar; returns the metric (default: the first).
+fn check_record(table: &[Variable], record: &[String], metric: Option<&str>) -> Result<String> {
+    ensure!(!record.is_empty(), "`record` lists no outputs");
+    for (i, name) in record.iter().enumerate() {
+        check_output(table, name).with_context(|| format!("`record[{i}]`"))?;
+    }
+    let metric = metric.unwrap_or(&record[0]).to_string();
+    ensure!(
+        record.contains(&metric),
+        "`metric` = \"{metric}\" is not one of the recorded outputs"
+    );
+    Ok(metric)
+}
+
+/// An input table: the variable is an input, the table is well formed, values in range.
+fn check_input(scene: &str, table: &[Variable], name: &str, input: &InputTable) -> Result<()> {
+    let key = format!("inputs.{name}");
+    let v = find(table, name).with_context(|| format!("`{key}`"))?;
+    ensure!(
+        v.causality == Causality::Input,
+        "`{key}`: `{name}` is not an input of the {scene} scene"
+    );
+    input.check(&key)?;
+    for &x in &input.value {
+        check_range(v, x).with_context(|| format!("`{key}.value`"))?;
+    }
+    Ok(())
+}
+
+/// The FMU file for the `fmu` backend (absolute), none for in-process.
+fn check_backend(
+    backend: BackendKind,
+    fmu: Option<PathBuf>,
+    base: &Path,
+) -> Result<Option<PathBuf>> {
+    match (backend, fmu) {
+        (BackendKind::Fmu, None) => bail!("`backend` = \"fmu\" needs `fmu`, the .fmu file"),
+        (BackendKind::Fmu, Some(p)) => {
+            let p = base.join(p);
+            ensure!(p.is_file(), "`fmu`: no file {}", p.display());
+            Ok(Some(std::path::absolute(&p)?))
+        }
+        (BackendKind::InProcess, Some(_)) => {
+            bail!("`fmu` is given but `backend` is \"in-process\"")
+        }
+        (BackendKind::InProcess, None) => Ok(None),
+    }
 }
 
 fn find<'a>(table: &'a [Variable], name: &str) -> Result<&'a Variable> {

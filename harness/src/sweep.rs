@@ -174,37 +174,9 @@ pub fn run(e: &Experiment, dir: &Path) -> Result<Sweep> {
         .build()?;
     let bar = progress(pending.len());
     pool.install(|| {
-        pending.par_iter().try_for_each(|&id| -> Result<()> {
-            // A panic in one case is recorded as its failure, like an error.
-            let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                backend
-                    .open()
-                    .and_then(|mut s| simulate(s.as_mut(), e, &settings[id]))
-            }))
-            .unwrap_or_else(|panic| {
-                let what = panic
-                    .downcast_ref::<String>()
-                    .map(String::as_str)
-                    .or_else(|| panic.downcast_ref::<&str>().copied())
-                    .unwrap_or("unknown panic");
-                Err(anyhow::anyhow!("the case panicked: {what}"))
-            });
-            let error = case_path(dir, id, "error");
-            match run {
-                Ok(series) => {
-                    write_atomic(&case_path(dir, id, "csv"), &series.to_csv()?)?;
-                    if error.is_file() {
-                        std::fs::remove_file(&error)?;
-                    }
-                }
-                Err(err) => {
-                    let message = format!("{err:#}");
-                    bar.println(format!("case {id} failed: {message}"));
-                    write_atomic(&error, message.as_bytes())?;
-                }
-            }
-            bar.inc(1);
-            Ok(())
+        pending.par_iter().try_for_each(|&id| {
+            let outcome = run_case(&backend, e, &settings[id]);
+            record(dir, id, outcome, &bar)
         })
     })?;
     bar.finish_and_clear();
@@ -216,6 +188,43 @@ pub fn run(e: &Experiment, dir: &Path) -> Result<Sweep> {
         ran: pending.len(),
         seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+/// Runs one case; a panic is turned into its failure, like an error.
+fn run_case(backend: &Backend, e: &Experiment, settings: &[(String, Value)]) -> Result<Series> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        backend
+            .open()
+            .and_then(|mut s| simulate(s.as_mut(), e, settings))
+    }))
+    .unwrap_or_else(|panic| {
+        let what = panic
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| panic.downcast_ref::<&str>().copied())
+            .unwrap_or("unknown panic");
+        Err(anyhow::anyhow!("the case panicked: {what}"))
+    })
+}
+
+/// Writes a case's result: its CSV (removing an earlier failure), or its error.
+fn record(dir: &Path, id: usize, outcome: Result<Series>, bar: &ProgressBar) -> Result<()> {
+    let error = case_path(dir, id, "error");
+    match outcome {
+        Ok(series) => {
+            write_atomic(&case_path(dir, id, "csv"), &series.to_csv()?)?;
+            if error.is_file() {
+                std::fs::remove_file(&error)?;
+            }
+        }
+        Err(err) => {
+            let message = format!("{err:#}");
+            bar.println(format!("case {id} failed: {message}"));
+            write_atomic(&error, message.as_bytes())?;
+        }
+    }
+    bar.inc(1);
+    Ok(())
 }
 
 /// Reads every case's file back.
