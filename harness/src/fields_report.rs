@@ -14,6 +14,12 @@ use models::stress;
 /// Adds the section to `report`.
 pub fn run(report: &mut Report) -> Result<()> {
     report.heading("Fields");
+    abdomen(report)?;
+    cutblock(report)
+}
+
+/// The abdomen under the default static press: stress map with arrows, and its VTU file.
+fn abdomen(report: &mut Report) -> Result<()> {
     let press = 0.8;
     let mut a = Abdomen::new();
     a.initialize()?;
@@ -56,6 +62,11 @@ pub fn run(report: &mut Report) -> Result<()> {
         "abdomen field for ParaView (displacement, stress, tissue)",
         "abdomen.vtu",
     );
+    Ok(())
+}
+
+/// The default cut block, fully cut and pulled 10 mm, as a VTU file.
+fn cutblock(report: &mut Report) -> Result<()> {
     let mut c = CutBlock::new();
     c.initialize()?;
     c.set("scalpel_x", 100.0)?;

@@ -4,7 +4,7 @@
 use anyhow::Result;
 use harness::plot::{self, Axis, Chart, Curve, Mark};
 use harness::report::Report;
-use harness::speed_error::{measure, pareto, stability, write_csv, Study};
+use harness::speed_error::{measure, pareto, stability, write_csv, Case, Study};
 
 /// Adds the section to `report`.
 pub fn run(report: &mut Report) -> Result<()> {
@@ -16,7 +16,7 @@ pub fn run(report: &mut Report) -> Result<()> {
         study.duration, study.reference.0, study.reference.1, study.duration
     ));
     let cases = measure(&study)?;
-    let cost = |c: &harness::speed_error::Case| c.setup_ms + c.step_ms * study.duration / c.dt;
+    let cost = |c: &Case| c.setup_ms + c.step_ms * study.duration / c.dt;
     let rows: Vec<Vec<String>> = cases
         .iter()
         .map(|c| {
@@ -45,10 +45,27 @@ pub fn run(report: &mut Report) -> Result<()> {
     );
     write_csv(&cases, &report.path("speed_error.csv"))?;
     report.file("measurements", "speed_error.csv");
+    let points: Vec<(f64, f64)> = cases.iter().map(|c| (cost(c), c.error)).collect();
+    pareto_plot(report, &cases, &points, study.duration)?;
+    report.text("Stability on hard cases (800 triangles, 0.1 s):");
+    let rows: Vec<Vec<String>> = stability()
+        .into_iter()
+        .map(|s| vec![s.case.into(), s.integrator.into(), s.outcome])
+        .collect();
+    report.table(&["case", "integrator", "outcome"], &rows);
+    Ok(())
+}
+
+/// Error against run time, one colour per mesh and integrator, with the Pareto front.
+fn pareto_plot(
+    report: &mut Report,
+    cases: &[Case],
+    points: &[(f64, f64)],
+    duration: f64,
+) -> Result<()> {
     let mut curves: Vec<Curve> = Vec::new();
-    for c in &cases {
+    for (c, &point) in cases.iter().zip(points) {
         let label = format!("{} triangles, {}", c.triangles, c.integrator);
-        let point = (cost(c), c.error);
         match curves.iter_mut().find(|k| k.label == label) {
             Some(k) => k.points.push(point),
             None => {
@@ -57,24 +74,17 @@ pub fn run(report: &mut Report) -> Result<()> {
             }
         }
     }
-    let points: Vec<(f64, f64)> = cases.iter().map(|c| (cost(c), c.error)).collect();
     let colour = curves.len();
-    curves.push(Curve::new("Pareto front", pareto(&points), Mark::Line).colour(colour));
+    curves.push(Curve::new("Pareto front", pareto(points), Mark::Line).colour(colour));
     plot::chart(
         &report.path("pareto"),
         &Chart {
             title: "Abdomen: run time vs error of the pelvic-floor stress".into(),
-            x: Axis::log(&format!("run time for {} s simulated (ms)", study.duration)),
+            x: Axis::log(&format!("run time for {duration} s simulated (ms)")),
             y: Axis::log("relative error of floor stress (1)"),
             curves,
         },
     )?;
     report.figure("Speed versus error with the Pareto front", "pareto");
-    report.text("Stability on hard cases (800 triangles, 0.1 s):");
-    let rows: Vec<Vec<String>> = stability()
-        .into_iter()
-        .map(|s| vec![s.case.into(), s.integrator.into(), s.outcome])
-        .collect();
-    report.table(&["case", "integrator", "outcome"], &rows);
     Ok(())
 }
