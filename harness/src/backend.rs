@@ -10,12 +10,14 @@ use models::scene::{self, Scene};
 
 use crate::experiment::{BackendKind, Experiment, Value};
 
-/// One running instance of a scene.
+/// One running instance of a scene. Variables are addressed by value reference, looked up
+/// by name once per case.
 pub trait Session {
-    fn set(&mut self, name: &str, value: &Value) -> Result<()>;
+    fn reference(&self, name: &str) -> Result<u32>;
+    fn set(&mut self, vr: u32, value: &Value) -> Result<()>;
     fn initialize(&mut self) -> Result<()>;
     fn step(&mut self, t: f64, h: f64) -> Result<()>;
-    fn get(&mut self, name: &str) -> Result<f64>;
+    fn get(&mut self, vr: u32) -> Result<f64>;
 }
 
 /// A case's recorded outputs: `rows[k] = [t, output…]` after initialization and after
@@ -63,8 +65,11 @@ impl Backend {
 struct InProcess(Box<dyn Scene>);
 
 impl Session for InProcess {
-    fn set(&mut self, name: &str, value: &Value) -> Result<()> {
-        let vr = self.0.lookup(name)?;
+    fn reference(&self, name: &str) -> Result<u32> {
+        Ok(self.0.lookup(name)?)
+    }
+
+    fn set(&mut self, vr: u32, value: &Value) -> Result<()> {
         match value {
             Value::Real(x) => self.0.set_real(vr, &[*x])?,
             Value::Text(s) => self.0.set_string(vr, s)?,
@@ -80,8 +85,7 @@ impl Session for InProcess {
         Ok(self.0.do_step(t, h)?)
     }
 
-    fn get(&mut self, name: &str) -> Result<f64> {
-        let vr = self.0.lookup(name)?;
+    fn get(&mut self, vr: u32) -> Result<f64> {
         let mut x = [0.0];
         self.0.get_real(vr, &mut x)?;
         Ok(x[0])
@@ -96,33 +100,48 @@ pub fn simulate(
     settings: &[(String, Value)],
 ) -> Result<Series> {
     for (name, value) in settings {
+        let vr = session.reference(name)?;
         session
-            .set(name, value)
+            .set(vr, value)
             .map_err(|err| anyhow!("setting `{name}` = {value}: {err:#}"))?;
     }
+    let inputs = e
+        .inputs
+        .iter()
+        .map(|(name, table)| Ok((session.reference(name)?, name, table)))
+        .collect::<Result<Vec<_>>>()?;
+    let record = e
+        .record
+        .iter()
+        .map(|name| session.reference(name))
+        .collect::<Result<Vec<_>>>()?;
     let set_inputs = |session: &mut dyn Session, t: f64| -> Result<()> {
-        for (name, table) in &e.inputs {
-            session.set(name, &Value::Real(table.at(t)))?;
+        for &(vr, name, table) in &inputs {
+            let x = table.at(t);
+            session
+                .set(vr, &Value::Real(x))
+                .map_err(|err| anyhow!("input `{name}` = {x} at t = {t} s: {err:#}"))?;
         }
         Ok(())
     };
-    set_inputs(session, 0.0)?;
-    session.initialize()?;
-    let record = |session: &mut dyn Session, t: f64| -> Result<Vec<f64>> {
-        let mut row = vec![t];
-        for name in &e.record {
-            row.push(session.get(name)?);
+    let outputs = |session: &mut dyn Session, t: f64| -> Result<Vec<f64>> {
+        let mut row = Vec::with_capacity(record.len() + 1);
+        row.push(t);
+        for &vr in &record {
+            row.push(session.get(vr)?);
         }
         Ok(row)
     };
-    let mut rows = vec![record(session, 0.0)?];
+    set_inputs(session, 0.0)?;
+    session.initialize()?;
+    let mut rows = vec![outputs(session, 0.0)?];
     for k in 0..e.steps() {
         let t = k as f64 * e.step;
         set_inputs(session, t)?;
         session
             .step(t, e.step)
             .map_err(|err| anyhow!("step at t = {t} s: {err:#}"))?;
-        rows.push(record(session, t + e.step)?);
+        rows.push(outputs(session, t + e.step)?);
     }
     Ok(Series {
         names: e.record.clone(),

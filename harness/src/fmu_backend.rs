@@ -40,10 +40,10 @@ impl log::Log for Capture {
 
 static CAPTURE: Capture = Capture;
 
-/// A loaded FMU and its variables by name: (value reference, is a string).
+/// A loaded FMU and the value references of its variables by name.
 pub struct FmuBackend {
     import: Fmi2Import,
-    variables: HashMap<String, (u32, bool)>,
+    variables: HashMap<String, u32>,
     identifier: String,
 }
 
@@ -73,10 +73,7 @@ impl FmuBackend {
             .with_context(|| format!("{} is not a co-simulation FMU", path.display()))?;
         let variables = md
             .get_model_variables()
-            .map(|v| {
-                let is_string = matches!(v.elem, fmi::schema::fmi2::ScalarVariableElement::String);
-                (v.name.clone(), (v.value_reference, is_string))
-            })
+            .map(|v| (v.name.clone(), v.value_reference))
             .collect();
         Ok(Self {
             import,
@@ -95,13 +92,6 @@ impl FmuBackend {
             instance,
         })
     }
-
-    fn variable(&self, name: &str) -> Result<(u32, bool)> {
-        self.variables
-            .get(name)
-            .copied()
-            .with_context(|| format!("the FMU has no variable named `{name}`"))
-    }
 }
 
 /// The error of an FMI call, with the message the FMU logged for it if any.
@@ -119,19 +109,25 @@ pub struct FmuSession<'a> {
 }
 
 impl Session for FmuSession<'_> {
-    fn set(&mut self, name: &str, value: &Value) -> Result<()> {
-        let (vr, is_string) = self.backend.variable(name)?;
-        match (value, is_string) {
-            (Value::Real(x), false) => self
+    fn reference(&self, name: &str) -> Result<u32> {
+        self.backend
+            .variables
+            .get(name)
+            .copied()
+            .with_context(|| format!("the FMU has no variable named `{name}`"))
+    }
+
+    fn set(&mut self, vr: u32, value: &Value) -> Result<()> {
+        match value {
+            Value::Real(x) => self
                 .instance
                 .set_real(&[vr], &[*x])
                 .map(drop)
-                .map_err(|e| failure(&format!("fmi2SetReal({name})"), e)),
-            (Value::Text(s), true) => self
+                .map_err(|e| failure("fmi2SetReal", e)),
+            Value::Text(s) => self
                 .instance
                 .set_string(&[vr], &[CString::new(s.as_str())?])
-                .map_err(|e| failure(&format!("fmi2SetString({name})"), e)),
-            _ => bail!("`{name}`: value {value} has the wrong type"),
+                .map_err(|e| failure("fmi2SetString", e)),
         }
     }
 
@@ -155,12 +151,11 @@ impl Session for FmuSession<'_> {
         Ok(())
     }
 
-    fn get(&mut self, name: &str) -> Result<f64> {
-        let (vr, _) = self.backend.variable(name)?;
+    fn get(&mut self, vr: u32) -> Result<f64> {
         let mut x = [0.0];
         self.instance
             .get_real(&[vr], &mut x)
-            .map_err(|e| failure(&format!("fmi2GetReal({name})"), e))?;
+            .map_err(|e| failure("fmi2GetReal", e))?;
         Ok(x[0])
     }
 }
