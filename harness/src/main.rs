@@ -38,7 +38,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Everything on built-in defaults: verification, identification on the shipped data,
-    /// speed versus error, the shipped pelvis sweep, fields
+    /// speed versus error, the shipped sweeps (pelvis, cut block), fields
     Report {
         #[arg(long, default_value = "report/default")]
         out: PathBuf,
