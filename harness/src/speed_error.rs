@@ -3,7 +3,6 @@
 //! against a converged reference (finest mesh, smallest step, Houbolt); and a stability table
 //! of what each integrator does on the hard cases. Results go to a CSV written atomically.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -178,28 +177,31 @@ pub fn stability() -> Vec<Stability> {
     out
 }
 
-/// Writes the cases as CSV to `path` through a temporary file renamed into place.
+/// Writes the cases as CSV to `path` (atomically, [`crate::report::write_atomic`]).
 pub fn write_csv(cases: &[Case], path: &Path) -> Result<PathBuf> {
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
-    let partial = path.with_extension("csv.partial");
-    {
-        let mut f = std::fs::File::create(&partial)
-            .with_context(|| format!("creating {}", partial.display()))?;
-        writeln!(
-            f,
-            "triangles,integrator,dt_s,setup_ms,step_ms,relative_error"
-        )?;
-        for c in cases {
-            writeln!(
-                f,
-                "{},{},{:e},{:.3},{:.4},{:.4e}",
-                c.triangles, c.integrator, c.dt, c.setup_ms, c.step_ms, c.error
-            )?;
-        }
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record([
+        "triangles",
+        "integrator",
+        "dt_s",
+        "setup_ms",
+        "step_ms",
+        "relative_error",
+    ])?;
+    for c in cases {
+        w.write_record([
+            c.triangles.to_string(),
+            c.integrator.clone(),
+            format!("{:e}", c.dt),
+            format!("{:.3}", c.setup_ms),
+            format!("{:.4}", c.step_ms),
+            format!("{:.4e}", c.error),
+        ])?;
     }
-    std::fs::rename(&partial, path).with_context(|| format!("renaming into {}", path.display()))?;
+    crate::report::write_atomic(path, &w.into_inner()?)?;
     Ok(path.to_path_buf())
 }
 
