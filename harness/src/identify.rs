@@ -53,15 +53,12 @@ impl Measurements {
     /// Reads `force_displacement_<set>.csv` and `profile_<set>_x25/50/75.csv` from `dir`;
     /// the profiles are taken at the largest displacement.
     pub fn load(dir: &Path, set: &str) -> Result<Self> {
-        let fd = read_pairs(&dir.join(format!("force_displacement_{set}.csv")))?;
-        let profiles =
+        let forces = Self::load_forces(&dir.join(format!("force_displacement_{set}.csv")))?;
+        let [a, b, c] =
             [25, 50, 75].map(|x| read_pairs(&dir.join(format!("profile_{set}_x{x}.csv"))));
-        let [a, b, c] = profiles;
         Ok(Self {
-            profile_pull: fd.iter().map(|p| p.0).fold(f64::MIN, f64::max),
-            displacement: fd.iter().map(|p| p.0).collect(),
-            force: fd.iter().map(|p| p.1).collect(),
             profiles: [a?, b?, c?],
+            ..forces
         })
     }
 
