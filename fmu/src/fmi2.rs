@@ -7,7 +7,7 @@ use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use crate::ffi::{guard, slice, slice_mut, text};
-use crate::instance::{Call, Instance, Layout, Log, Status};
+use crate::instance::{Addressing, Call, Instance, Log, Status};
 
 pub type fmi2Component = *mut c_void;
 pub type fmi2ComponentEnvironment = *mut c_void;
@@ -220,7 +220,7 @@ pub unsafe extern "C" fn fmi2GetReal(
 ) -> fmi2Status {
     guard(c, Some((Call::Get, "fmi2GetReal")), |i| {
         match unsafe { (slice(vr, n), slice_mut(value, n)) } {
-            (Some(vr), Some(value)) => i.get_reals(Layout::Scalars, vr, value),
+            (Some(vr), Some(value)) => i.get_reals(Addressing::Scalars, vr, value),
             _ => i.error(Status::Error, "fmi2GetReal: null array"),
         }
     })
@@ -237,7 +237,7 @@ pub unsafe extern "C" fn fmi2SetReal(
 ) -> fmi2Status {
     guard(c, Some((Call::Set, "fmi2SetReal")), |i| {
         match unsafe { (slice(vr, n), slice(value, n)) } {
-            (Some(vr), Some(value)) => i.set_reals(Layout::Scalars, vr, value),
+            (Some(vr), Some(value)) => i.set_reals(Addressing::Scalars, vr, value),
             _ => i.error(Status::Error, "fmi2SetReal: null array"),
         }
     })
@@ -257,7 +257,7 @@ pub unsafe extern "C" fn fmi2GetString(
         else {
             return i.error(Status::Error, "fmi2GetString: null array");
         };
-        match i.get_strings(Layout::Scalars, vr) {
+        match i.get_strings(Addressing::Scalars, vr) {
             Ok(strings) => {
                 for (v, s) in value.iter_mut().zip(strings) {
                     *v = s.as_ptr();
@@ -289,7 +289,7 @@ pub unsafe extern "C" fn fmi2SetString(
         else {
             return i.error(Status::Error, "fmi2SetString: null or non-UTF-8 string");
         };
-        i.set_strings(Layout::Scalars, vr, &values)
+        i.set_strings(Addressing::Scalars, vr, &values)
     })
 }
 

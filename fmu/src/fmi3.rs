@@ -10,7 +10,7 @@ use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use crate::ffi::{guard, slice, slice_mut, text};
-use crate::instance::{Call, Instance, Layout, Log, Status};
+use crate::instance::{Addressing, Call, Instance, Log, Status};
 
 pub type fmi3Instance = *mut c_void;
 pub type fmi3InstanceEnvironment = *mut c_void;
@@ -199,7 +199,7 @@ pub unsafe extern "C" fn fmi3GetFloat64(
 ) -> fmi3Status {
     guard(c, Some((Call::Get, "fmi3GetFloat64")), |i| {
         match unsafe { (slice(vr, nvr), slice_mut(values, n)) } {
-            (Some(vr), Some(values)) => i.get_reals(Layout::Arrays, vr, values),
+            (Some(vr), Some(values)) => i.get_reals(Addressing::Arrays, vr, values),
             _ => i.error(Status::Error, "fmi3GetFloat64: null array"),
         }
     })
@@ -217,7 +217,7 @@ pub unsafe extern "C" fn fmi3SetFloat64(
 ) -> fmi3Status {
     guard(c, Some((Call::Set, "fmi3SetFloat64")), |i| {
         match unsafe { (slice(vr, nvr), slice(values, n)) } {
-            (Some(vr), Some(values)) => i.set_reals(Layout::Arrays, vr, values),
+            (Some(vr), Some(values)) => i.set_reals(Addressing::Arrays, vr, values),
             _ => i.error(Status::Error, "fmi3SetFloat64: null array"),
         }
     })
@@ -244,7 +244,7 @@ pub unsafe extern "C" fn fmi3GetString(
                 "fmi3GetString: one value per reference expected",
             );
         }
-        match i.get_strings(Layout::Arrays, vr) {
+        match i.get_strings(Addressing::Arrays, vr) {
             Ok(strings) => {
                 for (v, s) in values.iter_mut().zip(strings) {
                     *v = s.as_ptr();
@@ -284,7 +284,7 @@ pub unsafe extern "C" fn fmi3SetString(
                 "fmi3SetString: one value per reference expected",
             );
         }
-        i.set_strings(Layout::Arrays, vr, &values)
+        i.set_strings(Addressing::Arrays, vr, &values)
     })
 }
 

@@ -6,7 +6,7 @@
 use std::ffi::CString;
 use std::path::PathBuf;
 
-use models::scene::{Causality, Scene, SceneError, Variable, VariableKind};
+use models::scene::{Causality, ErrorKind, Scene, SceneError, Variable, VariableKind};
 
 use crate::model::Model;
 
@@ -95,9 +95,9 @@ pub fn time_vr(vars: &[Variable]) -> u32 {
     vars.len() as u32
 }
 
-/// How value references are laid out.
+/// How value references address values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Layout {
+pub enum Addressing {
     /// FMI 2: one value per reference; arrays as indexed scalars.
     Scalars,
     /// FMI 3: a reference per variable, `len` values each; plus `time`.
@@ -229,8 +229,14 @@ impl Instance {
         }
     }
 
+    /// Logs a scene error, named by its kind when the model failed while running.
     fn fail(&self, e: &SceneError) -> Status {
-        self.error(Status::Error, &e.to_string())
+        match e.kind() {
+            ErrorKind::Runtime => self.error(Status::Error, &format!("{}: {e}", e.kind())),
+            ErrorKind::Usage | ErrorKind::Configuration => {
+                self.error(Status::Error, &e.to_string())
+            }
+        }
     }
 
     pub fn setup_experiment(&mut self, start: f64) -> Status {
@@ -311,16 +317,20 @@ impl Instance {
     }
 
     /// Resolves references to (scene vr, element index, value count) per reference.
-    fn resolve(&self, layout: Layout, vrs: &[u32]) -> Result<Vec<(u32, usize, usize)>, String> {
+    fn resolve(
+        &self,
+        addressing: Addressing,
+        vrs: &[u32],
+    ) -> Result<Vec<(u32, usize, usize)>, String> {
         vrs.iter()
-            .map(|&vr| match layout {
-                Layout::Scalars => self
+            .map(|&vr| match addressing {
+                Addressing::Scalars => self
                     .scalars
                     .get(vr as usize)
                     .map(|s| (s.scene_vr, s.index, 1))
                     .ok_or_else(|| format!("unknown value reference {vr}")),
-                Layout::Arrays if vr == time_vr(self.scene.variables()) => Ok((vr, 0, 1)),
-                Layout::Arrays => self
+                Addressing::Arrays if vr == time_vr(self.scene.variables()) => Ok((vr, 0, 1)),
+                Addressing::Arrays => self
                     .variable(vr)
                     .map(|v| (vr, 0, v.len))
                     .ok_or_else(|| format!("unknown value reference {vr}")),
@@ -332,12 +342,12 @@ impl Instance {
     /// otherwise.
     fn references(
         &self,
-        layout: Layout,
+        addressing: Addressing,
         vrs: &[u32],
         n_values: usize,
     ) -> Result<Vec<(u32, usize, usize)>, Status> {
         let refs = self
-            .resolve(layout, vrs)
+            .resolve(addressing, vrs)
             .map_err(|m| self.error(Status::Error, &m))?;
         let needed: usize = refs.iter().map(|r| r.2).sum();
         if needed != n_values {
@@ -350,8 +360,8 @@ impl Instance {
     }
 
     /// Sets real values.
-    pub fn set_reals(&mut self, layout: Layout, vrs: &[u32], values: &[f64]) -> Status {
-        let refs = match self.references(layout, vrs, values.len()) {
+    pub fn set_reals(&mut self, addressing: Addressing, vrs: &[u32], values: &[f64]) -> Status {
+        let refs = match self.references(addressing, vrs, values.len()) {
             Ok(r) => r,
             Err(s) => return s,
         };
@@ -384,8 +394,8 @@ impl Instance {
     }
 
     /// Gets real values (outputs are computed on the first request after a step).
-    pub fn get_reals(&mut self, layout: Layout, vrs: &[u32], values: &mut [f64]) -> Status {
-        let refs = match self.references(layout, vrs, values.len()) {
+    pub fn get_reals(&mut self, addressing: Addressing, vrs: &[u32], values: &mut [f64]) -> Status {
+        let refs = match self.references(addressing, vrs, values.len()) {
             Ok(r) => r,
             Err(s) => return s,
         };
@@ -417,8 +427,13 @@ impl Instance {
     }
 
     /// Sets string parameters.
-    pub fn set_strings(&mut self, layout: Layout, vrs: &[u32], values: &[String]) -> Status {
-        let refs = match self.resolve(layout, vrs) {
+    pub fn set_strings(
+        &mut self,
+        addressing: Addressing,
+        vrs: &[u32],
+        values: &[String],
+    ) -> Status {
+        let refs = match self.resolve(addressing, vrs) {
             Ok(r) => r,
             Err(m) => return self.error(Status::Error, &m),
         };
@@ -431,9 +446,13 @@ impl Instance {
     }
 
     /// Gets string variables; the returned C strings stay valid until the next call.
-    pub fn get_strings(&mut self, layout: Layout, vrs: &[u32]) -> Result<&[CString], Status> {
+    pub fn get_strings(
+        &mut self,
+        addressing: Addressing,
+        vrs: &[u32],
+    ) -> Result<&[CString], Status> {
         let refs = self
-            .resolve(layout, vrs)
+            .resolve(addressing, vrs)
             .map_err(|m| self.error(Status::Error, &m))?;
         self.strings.clear();
         for (vr, _, _) in refs {
@@ -470,10 +489,44 @@ mod tests {
     }
 
     #[test]
+    fn runtime_failures_and_configuration_errors_are_named_as_such() {
+        let (mut i, lines) = instance(false);
+        let vr = |i: &Instance, name: &str| i.scene.lookup(name).unwrap();
+        let support = vr(&i, "support");
+        assert_eq!(
+            i.set_strings(Addressing::Arrays, &[support], &["glued".into()]),
+            Status::Error
+        );
+        let (cells_x, depth) = (vr(&i, "cells_x"), vr(&i, "cut_depth"));
+        i.set_reals(Addressing::Arrays, &[cells_x, depth], &[2.0, 17.0]);
+        i.enter_initialization();
+        assert_eq!(i.exit_initialization(), Status::Ok);
+        let (pull, scalpel) = (vr(&i, "pull"), vr(&i, "scalpel_x"));
+        i.set_reals(Addressing::Arrays, &[pull, scalpel], &[1.0, 100.0]);
+        assert_eq!(i.do_step(0.0, 1.0), Status::Error);
+        let logged = lines.lock().unwrap().clone();
+        assert!(
+            logged[0]
+                .2
+                .starts_with("invalid configuration: support `glued`"),
+            "{:?}",
+            logged[0]
+        );
+        let last = &logged.last().unwrap().2;
+        assert!(
+            last.starts_with("runtime failure: the cut separates the block"),
+            "{last}"
+        );
+    }
+
+    #[test]
     fn errors_are_logged_with_the_variable_and_calls_only_when_asked() {
         let (mut i, lines) = instance(false);
         let nu = i.scene.lookup("nu").unwrap();
-        assert_eq!(i.set_reals(Layout::Arrays, &[nu], &[0.5]), Status::Error);
+        assert_eq!(
+            i.set_reals(Addressing::Arrays, &[nu], &[0.5]),
+            Status::Error
+        );
         assert!(i.check(Call::DoStep, "fmi2DoStep").is_err());
         let logged = lines.lock().unwrap().clone();
         assert_eq!(logged.len(), 2);

@@ -25,7 +25,7 @@ fn instantiate() -> fmi2Component {
     c
 }
 
-/// FMI 2 value reference of a scalar by name (the layout the model description uses).
+/// FMI 2 value reference of a scalar by name (the addressing the model description uses).
 fn vr(name: &str) -> fmi2ValueReference {
     let scene = CutBlock::new();
     fmu::instance::fmi2_scalars(scene.variables())

@@ -13,6 +13,12 @@ sweep it writes each finished case atomically to OUT/cases/case_NNNN.csv, a fail
 case_NNNN.error with the FMU's message, skips finished cases when re-run, and ends with
 OUT/summary.csv. The workers need fmpy and numpy; the FMU file must be readable by them at
 the same path (a shared file system), or pass a path valid on the workers.
+
+Inputs follow the harness's rule (harness/src/sweep/simulate.rs): each input table is
+sampled at the start of every communication step and held over the step. The runner hands
+fmpy one input row per communication point, holding those sampled values, so fmpy sets
+exactly the values the Rust loop sets, wherever the table's own breakpoints lie
+(tests/python/test_dask_sweep.py puts one inside a step).
 """
 
 import argparse
@@ -38,7 +44,8 @@ def _unzipped(fmu):
 
 
 def input_at(table, t):
-    """The piecewise-linear input at time t, held beyond its ends (the harness's formula)."""
+    """The piecewise-linear input at time t, held beyond its ends (the harness's formula,
+    `InputTable::at`); the runner evaluates it at communication points only."""
     times, values = table["time"], table["value"]
     k = sum(1 for s in times if s <= t)
     if k == 0:

@@ -1,16 +1,19 @@
-//! tissuefmu harness library: experiments and sweeps over the scenes (in process or as
-//! FMUs), material identification, speed versus error, plots, fields for ParaView and
-//! report folders. The command-line front end (`src/main.rs`) runs these.
+//! tissuefmu harness library: everything the `harness` command runs, by role.
+//!
+//! ```text
+//! sweep/      the engine: experiment files, designs, the one simulation loop
+//!             (simulate), backends (in process, FMU), the parallel resumable runner
+//! studies/    what is computed: identification, profile comparison, speed versus
+//!             error, verification against analytical and seed results
+//! report/     what is written: Markdown reports, plots, VTU fields, and one section
+//!             per study or sweep; the commands the CLI dispatches to
+//! atomic      every file goes through a temporary file and a rename
+//! ```
+//!
+//! Dependencies run one way: `report` uses `studies` and `sweep`, `studies` uses `sweep`,
+//! all use `atomic`.
 
-pub mod backend;
-pub mod design;
-pub mod experiment;
-pub mod fields;
-#[cfg(feature = "fmu")]
-pub mod fmu_backend;
-pub mod identify;
-pub mod plot;
-pub mod profiles;
+pub mod atomic;
 pub mod report;
-pub mod speed_error;
+pub mod studies;
 pub mod sweep;

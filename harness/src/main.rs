@@ -1,28 +1,14 @@
-//! tissuefmu harness: the command-line front end. Every command writes a report folder (CSVs,
-//! plots as PNG and SVG, VTU fields, `report.md` linking them) and prints its path. Without a
-//! command it runs `report`, everything on built-in defaults (the README's main job).
+//! tissuefmu harness: the command-line front end. It parses the command and dispatches to
+//! the library ([`harness::report`]); every command but `simulate` writes a report folder
+//! (CSVs, plots as PNG and SVG, VTU fields, `report.md` linking them) and prints its path.
+//! Without a command it runs `report`, everything on built-in defaults (the README's main
+//! job).
 
-mod abdomen_report;
-mod core_report;
-mod cutblock_report;
-mod fields_report;
-mod identify_report;
-mod speed_error_report;
-mod sweep_report;
-
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
-use harness::experiment::Experiment;
-use harness::report::Report;
-use identify_report::Data;
-
-/// The shipped experiments and data, in the repository this harness was built from.
-fn experiments() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../experiments");
-    dir.canonicalize().unwrap_or(dir)
-}
+use harness::report::{self, fields, identification, series, speed_error, sweep, verification};
 
 #[derive(Parser)]
 #[command(
@@ -90,91 +76,39 @@ enum Command {
         #[arg(long, default_value = "report/fields")]
         out: PathBuf,
     },
-}
-
-fn verify(report: &mut Report) -> Result<()> {
-    report.heading("Verification");
-    for section in [core_report::run, cutblock_report::run, abdomen_report::run] {
-        let mut text = String::new();
-        section(&mut text)?;
-        report.verbatim(&text);
-    }
-    Ok(())
-}
-
-fn sweep(
-    path: &Path,
-    out: Option<PathBuf>,
-    jobs: Option<usize>,
-    plan_only: bool,
-) -> Result<PathBuf> {
-    let mut e = Experiment::load(path)?;
-    if let Some(j) = jobs {
-        e.jobs = j;
-    }
-    let dir = out.unwrap_or_else(|| Path::new("report").join(&e.name));
-    if plan_only {
-        harness::sweep::prepare(&e, &dir)?;
-        return Ok(dir.join("plan.json"));
-    }
-    Ok(sweep_report::run(&e, &dir)?.0)
-}
-
-/// The shipped sweeps the default report runs, with the parameters whose plots it shows
-/// inline (the rest are in each sweep's own report).
-const SHIPPED_SWEEPS: [(&str, &[&str]); 2] = [
-    ("pelvis_sweep", &["configuration", "anatomy.outlet"]),
-    ("cutblock_sweep", &["cut_depth"]),
-];
-
-/// Runs a shipped sweep into a subfolder and summarizes it in `report`.
-fn shipped_sweep(report: &mut Report, name: &str, shown: &[&str]) -> Result<()> {
-    let e = Experiment::load(&experiments().join(format!("{name}.toml")))?;
-    report.heading(&format!("Sweep `{name}` ({} cases)", e.cases.len()));
-    report.text(&e.description);
-    let (_, correlations) = sweep_report::run(&e, &report.path(name))?;
-    report.text(&format!(
-        "Full sweep report: [{name}/report.md]({name}/report.md)."
-    ));
-    for parameter in shown {
-        report.figure(
-            &format!("Peak {} against {parameter}", e.metric),
-            &format!("{name}/{}", sweep_report::plot_stem(parameter)),
-        );
-    }
-    report.table(
-        &["parameter", "cases of", "cases", "Pearson r with the peak"],
-        &correlations,
-    );
-    Ok(())
-}
-
-fn default_report(out: &Path) -> Result<PathBuf> {
-    let mut report = Report::create(out, "tissuefmu report on built-in defaults")?;
-    verify(&mut report)?;
-    let data = experiments().join("data/cutblock");
-    identify_report::run(
-        &mut report,
-        Data::Set {
-            dir: &data,
-            set: "A",
-        },
-        None,
-    )?;
-    speed_error_report::run(&mut report)?;
-    for (name, shown) in SHIPPED_SWEEPS {
-        shipped_sweep(&mut report, name, shown)?;
-    }
-    fields_report::run(&mut report)?;
-    report.finish()
+    /// One run of a scene in process, as a CSV of time and outputs (to standard output
+    /// unless --out); inputs are sampled at the start of each communication step and held
+    Simulate {
+        /// The scene: abdomen or cutblock
+        scene: String,
+        /// Stop time (s)
+        #[arg(long)]
+        stop_time: f64,
+        /// Communication step (s)
+        #[arg(long)]
+        step: f64,
+        /// A parameter before initialization, name=value (repeatable)
+        #[arg(long)]
+        set: Vec<String>,
+        /// A CSV `time,<input>,…` of piecewise-linear inputs
+        #[arg(long)]
+        inputs: Option<PathBuf>,
+        /// The outputs to record, comma-separated (arrays give one column per element)
+        #[arg(long, value_delimiter = ',', required = true)]
+        record: Vec<String>,
+        /// The CSV file to write
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
 }
 
 fn main() -> std::process::ExitCode {
     match run(Cli::parse()) {
-        Ok(path) => {
+        Ok(Some(path)) => {
             println!("\nwritten to {}", path.display());
             std::process::ExitCode::SUCCESS
         }
+        Ok(None) => std::process::ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
             std::process::ExitCode::FAILURE
@@ -182,51 +116,49 @@ fn main() -> std::process::ExitCode {
     }
 }
 
-fn run(cli: Cli) -> Result<PathBuf> {
-    let path = match cli.command.unwrap_or(Command::Report {
+fn run(cli: Cli) -> Result<Option<PathBuf>> {
+    let command = cli.command.unwrap_or(Command::Report {
         out: PathBuf::from("report/default"),
-    }) {
-        Command::Report { out } => default_report(&out)?,
+    });
+    let path = match command {
+        Command::Report { out } => report::default::run(&out)?,
         Command::Sweep {
             experiment,
             out,
             jobs,
             plan_only,
-        } => sweep(&experiment, out, jobs, plan_only)?,
+        } => sweep::command(&experiment, out, jobs, plan_only)?,
         Command::Identify {
             data,
             set,
             forces,
             nu,
             out,
-        } => {
-            let mut r = Report::create(&out, "Material identification")?;
-            let dir = data.unwrap_or_else(|| experiments().join("data/cutblock"));
-            let what = match &forces {
-                Some(path) => Data::Forces(path),
-                None => Data::Set {
-                    dir: &dir,
-                    set: &set,
-                },
-            };
-            identify_report::run(&mut r, what, nu)?;
-            r.finish()?
-        }
+        } => identification::command(data, &set, forces, nu, &out)?,
         Command::SpeedError { out } => {
-            let mut r = Report::create(&out, "Speed versus error")?;
-            speed_error_report::run(&mut r)?;
-            r.finish()?
+            report::write(&out, "Speed versus error", speed_error::section)?
         }
-        Command::Verify { out } => {
-            let mut r = Report::create(&out, "Verification")?;
-            verify(&mut r)?;
-            r.finish()?
-        }
-        Command::Fields { out } => {
-            let mut r = Report::create(&out, "Fields")?;
-            fields_report::run(&mut r)?;
-            r.finish()?
+        Command::Verify { out } => report::write(&out, "Verification", verification::section)?,
+        Command::Fields { out } => report::write(&out, "Fields", fields::section)?,
+        Command::Simulate {
+            scene,
+            stop_time,
+            step,
+            set,
+            inputs,
+            record,
+            out,
+        } => {
+            return series::command(&series::Request {
+                scene: &scene,
+                stop_time,
+                step,
+                set: &set,
+                inputs: inputs.as_deref(),
+                record: &record,
+                out: out.as_deref(),
+            })
         }
     };
-    Ok(path)
+    Ok(Some(path))
 }

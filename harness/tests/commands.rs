@@ -4,7 +4,7 @@
 use std::path::Path;
 use std::process::Command;
 
-use harness::experiment::Experiment;
+use harness::sweep::Experiment;
 
 fn harness(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_harness"))
@@ -68,6 +68,49 @@ fn identify_fits_a_force_file_at_a_given_nu_and_refuses_a_bad_one() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success());
     assert!(err.contains("f.csv") && err.contains("row 1"), "{err}");
+}
+
+#[test]
+fn simulate_prints_the_series_and_names_bad_settings() {
+    let tmp = tempfile::tempdir().unwrap();
+    let inputs = tmp.path().join("in.csv");
+    std::fs::write(&inputs, "time,pull\n0,0\n2,4\n").unwrap();
+    let base = [
+        "simulate",
+        "cutblock",
+        "--stop-time",
+        "2",
+        "--step",
+        "1",
+        "--set",
+        "cells_x=2",
+        "--set",
+        "cells_y=4",
+        "--set",
+        "cut_strategy=delete",
+        "--record",
+        "pull,reaction_force",
+    ];
+    let o = harness(&[&base[..], &["--inputs", inputs.to_str().unwrap()]].concat());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = String::from_utf8_lossy(&o.stdout).to_string();
+    let rows: Vec<Vec<&str>> = out.lines().map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows[0], ["time", "pull", "reaction_force"]);
+    // The pull is sampled at each step's start and held: 0 then 2 (its value at t = 1 s).
+    let pulls: Vec<&str> = rows[1..].iter().map(|r| r[1]).collect();
+    assert_eq!(pulls, ["0.0", "0.0", "2.0"]);
+    let force: f64 = rows[3][2].parse().unwrap();
+    assert!(force > 0.0, "{out}");
+
+    for (bad, needle) in [
+        ("nu=abc", "abc"),
+        ("poisson=0.3", "poisson"),
+        ("nu", "name=value"),
+    ] {
+        let o = harness(&[&base[..], &["--set", bad]].concat());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(needle), "{bad}: {err}");
+    }
 }
 
 #[test]

@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use harness::experiment::Experiment;
+use harness::sweep::Experiment;
 use harness::sweep::{self, Outcome};
 
 fn fmu(name: &str) -> PathBuf {

@@ -7,7 +7,7 @@ use std::sync::LazyLock;
 
 use divan::Bencher;
 use models::assembly::{plane, solid, Dirichlet};
-use models::solve::{Cholesky, Damping, IntegratorKind, Layout, Statics, Structure};
+use models::solve::{Cholesky, Damping, Factorization, IntegratorKind, Statics, Structure};
 use models::verify::problems::{self, Assembled, BlockProblem, PlaneProblem};
 
 fn main() {
@@ -26,7 +26,7 @@ static BLOCK: LazyLock<(BlockProblem, Assembled)> = LazyLock::new(|| {
     (p, a)
 });
 
-fn plane_structure(layout: Layout) -> Structure {
+fn plane_structure(factorization: Factorization) -> Structure {
     let (p, a) = &*PLANE;
     a.structure(
         &p.fixed,
@@ -34,7 +34,7 @@ fn plane_structure(layout: Layout) -> Structure {
             alpha: 1.0,
             beta: 1e-4,
         },
-        layout,
+        factorization,
     )
     .unwrap()
 }
@@ -62,15 +62,15 @@ mod plane2d {
         bencher.bench_local(|| plane::mass(&p.mesh, &a.asm, &p.props, &mut m));
     }
 
-    #[divan::bench(args = [Layout::Simplicial, Layout::Supernodal])]
-    fn symbolic_factorization(bencher: Bencher, layout: Layout) {
-        let s = plane_structure(layout);
+    #[divan::bench(args = [Factorization::Simplicial, Factorization::Supernodal])]
+    fn symbolic_factorization(bencher: Bencher, factorization: Factorization) {
+        let s = plane_structure(factorization);
         bencher.bench(|| s.analyze().unwrap());
     }
 
-    #[divan::bench(args = [Layout::Simplicial, Layout::Supernodal])]
-    fn houbolt_prepare(bencher: Bencher, layout: Layout) {
-        let s = plane_structure(layout);
+    #[divan::bench(args = [Factorization::Simplicial, Factorization::Supernodal])]
+    fn houbolt_prepare(bencher: Bencher, factorization: Factorization) {
+        let s = plane_structure(factorization);
         let mut h = IntegratorKind::Houbolt.create();
         h.prepare(&s, 1e-3).unwrap();
         // Same dt: one numeric refactorization of the effective matrix (as after a
@@ -78,9 +78,9 @@ mod plane2d {
         bencher.bench_local(|| h.prepare(&s, 1e-3).unwrap());
     }
 
-    #[divan::bench(args = [Layout::Simplicial, Layout::Supernodal])]
-    fn houbolt_step(bencher: Bencher, layout: Layout) {
-        let s = plane_structure(layout);
+    #[divan::bench(args = [Factorization::Simplicial, Factorization::Supernodal])]
+    fn houbolt_step(bencher: Bencher, factorization: Factorization) {
+        let s = plane_structure(factorization);
         let mut h = IntegratorKind::Houbolt.create();
         h.prepare(&s, 1e-3).unwrap();
         let mut load = |t: f64, f: &mut [f64]| f.fill(1e-3 * (10.0 * t).sin());
@@ -95,7 +95,7 @@ mod plane2d {
     #[divan::bench]
     fn static_solve(bencher: Bencher) {
         let (p, a) = &*PLANE;
-        let mut statics = Statics::new(&a.asm, &p.fixed, Layout::Simplicial).unwrap();
+        let mut statics = Statics::new(&a.asm, &p.fixed, Factorization::Simplicial).unwrap();
         statics.factorize(&a.k).unwrap();
         let f = vec![1e-3; p.mesh.n_dofs()];
         let mut u = vec![0.0; p.mesh.n_dofs()];
@@ -113,24 +113,24 @@ mod block3d {
         bencher.bench_local(|| solid::stiffness(&p.mesh, &a.asm, &p.material, &mut k));
     }
 
-    #[divan::bench(args = [Layout::Simplicial, Layout::Supernodal])]
-    fn symbolic_factorization(bencher: Bencher, layout: Layout) {
+    #[divan::bench(args = [Factorization::Simplicial, Factorization::Supernodal])]
+    fn symbolic_factorization(bencher: Bencher, factorization: Factorization) {
         let (p, a) = &*BLOCK;
         let bc = Dirichlet::new(&a.asm, &p.fixed).unwrap();
-        bencher.bench(|| Cholesky::analyze(bc.symbolic().as_ref(), layout).unwrap());
+        bencher.bench(|| Cholesky::analyze(bc.symbolic().as_ref(), factorization).unwrap());
     }
 
-    #[divan::bench(args = [Layout::Simplicial, Layout::Supernodal])]
-    fn numeric_factorization(bencher: Bencher, layout: Layout) {
+    #[divan::bench(args = [Factorization::Simplicial, Factorization::Supernodal])]
+    fn numeric_factorization(bencher: Bencher, factorization: Factorization) {
         let (p, a) = &*BLOCK;
-        let mut statics = Statics::new(&a.asm, &p.fixed, layout).unwrap();
+        let mut statics = Statics::new(&a.asm, &p.fixed, factorization).unwrap();
         bencher.bench_local(|| statics.factorize(&a.k).unwrap());
     }
 
     #[divan::bench]
     fn solve(bencher: Bencher) {
         let (p, a) = &*BLOCK;
-        let mut statics = Statics::new(&a.asm, &p.fixed, Layout::Supernodal).unwrap();
+        let mut statics = Statics::new(&a.asm, &p.fixed, Factorization::Supernodal).unwrap();
         statics.factorize(&a.k).unwrap();
         let f = vec![0.0; p.mesh.n_dofs()];
         let mut u = p.prescribed.clone();
@@ -142,7 +142,7 @@ mod block3d {
     #[divan::bench]
     fn static_total(bencher: Bencher) {
         let (p, a) = &*BLOCK;
-        let mut statics = Statics::new(&a.asm, &p.fixed, Layout::Supernodal).unwrap();
+        let mut statics = Statics::new(&a.asm, &p.fixed, Factorization::Supernodal).unwrap();
         let mut k = a.asm.zeros();
         let f = vec![0.0; p.mesh.n_dofs()];
         let mut u = p.prescribed.clone();
@@ -159,7 +159,7 @@ mod parts {
 
     #[divan::bench]
     fn plane_matvec(bencher: Bencher) {
-        let s = plane_structure(Layout::Simplicial);
+        let s = plane_structure(Factorization::Simplicial);
         let x = vec![1.0; s.n()];
         let mut y = vec![0.0; s.n()];
         bencher.bench_local(|| models::assembly::mul_add(s.mass(), &x, 1.0, &mut y));
@@ -167,7 +167,7 @@ mod parts {
 
     #[divan::bench]
     fn plane_triangular_solve(bencher: Bencher) {
-        let s = plane_structure(Layout::Simplicial);
+        let s = plane_structure(Factorization::Simplicial);
         let mut chol = s.analyze().unwrap();
         let mut a = vec![0.0; s.dirichlet().nnz()];
         s.effective(2e6, 0.0, &mut a);

@@ -5,7 +5,7 @@
 use models::assembly::{solid, Assembler};
 use models::element::{tet4, Elastic};
 use models::mesh::generate;
-use models::solve::{Layout, Statics};
+use models::solve::{Factorization, Statics};
 use models::verify::lame::Lame;
 use nalgebra::{Matrix3, Vector3};
 
@@ -103,7 +103,7 @@ fn tet4_manufactured_solution_converges_at_rate_two() {
                 }
             }
         }
-        let mut statics = Statics::new(&asm, &fixed, Layout::Supernodal).unwrap();
+        let mut statics = Statics::new(&asm, &fixed, Factorization::Supernodal).unwrap();
         statics.factorize(&k).unwrap();
         statics.solve(asm.matrix(&k), &f, &mut u);
         // Degree-2 rule for tetrahedra: 4 points, weight V/4.

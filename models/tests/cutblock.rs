@@ -182,7 +182,8 @@ fn separating_cut_is_refused_with_a_clear_error() {
     s.set("pull", 10.0).unwrap();
     s.set("scalpel_x", 100.0).unwrap();
     let err = s.do_step(0.0, 1.0).unwrap_err();
-    assert!(matches!(err, SceneError::Config(_)), "{err}");
+    assert!(matches!(err, SceneError::Separated { .. }), "{err}");
+    assert_eq!(err.kind(), models::scene::ErrorKind::Runtime);
     assert!(
         err.to_string()
             .contains("separates the block into 2 bodies"),

@@ -6,7 +6,7 @@ use models::assembly::plane::{self, Continuum, PlaneProperties};
 use models::assembly::Dirichlet;
 use models::element::Elastic;
 use models::mesh::generate;
-use models::solve::{Damping, IntegratorKind, Layout, Statics, Structure};
+use models::solve::{Damping, Factorization, IntegratorKind, Statics, Structure};
 use models::ModelError;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
@@ -46,7 +46,7 @@ fn model() -> Model {
         .iter()
         .flat_map(|n| [2 * n, 2 * n + 1])
         .collect();
-    let mut statics = Statics::new(&asm, &fixed, Layout::Simplicial).unwrap();
+    let mut statics = Statics::new(&asm, &fixed, Factorization::Simplicial).unwrap();
     statics.factorize(&k).unwrap();
     let mut f = vec![0.0; mesh.n_dofs()];
     for &n in mesh.node_sets().get("right").unwrap() {
@@ -58,7 +58,15 @@ fn model() -> Model {
     let mut u0 = vec![0.0; bc.n_free()];
     bc.reduce(&u_full, &mut u0);
     let lumped = plane::lumped_mass(&mesh, &props);
-    let s = Structure::new(bc, &k, &m, &lumped, Damping::NONE, Layout::Simplicial).unwrap();
+    let s = Structure::new(
+        bc,
+        &k,
+        &m,
+        &lumped,
+        Damping::NONE,
+        Factorization::Simplicial,
+    )
+    .unwrap();
     let (kd, md) = (dense(s.stiffness()), dense(s.mass()));
     let l = md.clone().cholesky().unwrap().l();
     let linv = l.clone().try_inverse().unwrap();

@@ -6,7 +6,7 @@ use models::assembly::plane::{self, Continuum, PlaneProperties, Truss};
 use models::element::Elastic;
 use models::mesh::generate::{self, Diagonals};
 use models::mesh::Mesh2d;
-use models::solve::{statics::reactions, Damping, IntegratorKind, Layout, Statics};
+use models::solve::{statics::reactions, Damping, Factorization, IntegratorKind, Statics};
 use models::verify::{lame::Lame, problems};
 use models::ModelError;
 
@@ -70,7 +70,7 @@ fn cantilever_ratio(nu: f64, n: usize, diagonals: Diagonals) -> f64 {
     for &r in right {
         f[2 * r + 1] = -p / right.len() as f64;
     }
-    let mut statics = Statics::new(&asm, &fixed, Layout::Simplicial).unwrap();
+    let mut statics = Statics::new(&asm, &fixed, Factorization::Simplicial).unwrap();
     statics.factorize(&k).unwrap();
     let mut u = vec![0.0; mesh.n_dofs()];
     statics.solve(asm.matrix(&k), &f, &mut u);
@@ -134,7 +134,7 @@ fn stiffness_contrast_of_a_million_is_solved_to_round_off() {
             fixed.push(2 * n);
             u[2 * n] = delta;
         }
-        let mut statics = Statics::new(&asm, &fixed, Layout::Simplicial).unwrap();
+        let mut statics = Statics::new(&asm, &fixed, Factorization::Simplicial).unwrap();
         statics.factorize(&k).unwrap();
         let f = vec![0.0; mesh.n_dofs()];
         statics.solve(asm.matrix(&k), &f, &mut u);
@@ -155,7 +155,7 @@ fn houbolt_stays_bounded_with_a_million_fold_stiffness_contrast() {
     let assembled = p.assemble();
     let (asm, k) = (&assembled.asm, &assembled.k);
     let s = assembled
-        .structure(&p.fixed, Damping::NONE, Layout::Simplicial)
+        .structure(&p.fixed, Damping::NONE, Factorization::Simplicial)
         .unwrap();
     let mut h = IntegratorKind::Houbolt.create();
     h.prepare(&s, 1e-3).unwrap();
@@ -180,7 +180,7 @@ fn houbolt_stays_bounded_with_a_million_fold_stiffness_contrast() {
         peak = peak.max(h.state().u.iter().fold(0.0f64, |a, b| a.max(b.abs())));
     }
     // A suddenly applied load overshoots the static deflection at most twice.
-    let mut statics = Statics::new(asm, &p.fixed, Layout::Simplicial).unwrap();
+    let mut statics = Statics::new(asm, &p.fixed, Factorization::Simplicial).unwrap();
     statics.factorize(k).unwrap();
     let mut f = vec![0.0; p.mesh.n_dofs()];
     for n in p.mesh.node_sets().get("top").unwrap() {
@@ -234,7 +234,7 @@ fn strongly_graded_mesh_passes_the_patch_test() {
             u[2 * node + 1] = ue[1];
         }
     }
-    let mut statics = Statics::new(&asm, &fixed, Layout::Simplicial).unwrap();
+    let mut statics = Statics::new(&asm, &fixed, Factorization::Simplicial).unwrap();
     statics.factorize(&k).unwrap();
     statics.solve(asm.matrix(&k), &vec![0.0; mesh.n_dofs()], &mut u);
     let worst = (0..mesh.nodes().len())
@@ -254,7 +254,7 @@ fn factorize_with(
     let asm = plane::assembler(mesh);
     let mut k = asm.zeros();
     plane::stiffness(mesh, &asm, props, &mut k);
-    let mut statics = Statics::new(&asm, fixed, Layout::Simplicial)?;
+    let mut statics = Statics::new(&asm, fixed, Factorization::Simplicial)?;
     statics.factorize(&k)
 }
 

@@ -8,7 +8,7 @@ use std::cell::Cell;
 use models::assembly::Dirichlet;
 use models::scene::abdomen::Abdomen;
 use models::scene::{Causality, Scene};
-use models::solve::{Damping, IntegratorKind, Layout, Statics, Structure};
+use models::solve::{Damping, Factorization, IntegratorKind, Statics, Structure};
 use models::verify::problems;
 
 struct Counting;
@@ -48,7 +48,15 @@ fn structure() -> Structure {
         alpha: 0.5,
         beta: 1e-4,
     };
-    Structure::new(bc, &a.k, &a.m, &a.lumped, damping, Layout::Simplicial).unwrap()
+    Structure::new(
+        bc,
+        &a.k,
+        &a.m,
+        &a.lumped,
+        damping,
+        Factorization::Simplicial,
+    )
+    .unwrap()
 }
 
 #[test]
@@ -89,7 +97,7 @@ fn integrator_steps_allocate_nothing() {
 fn static_resolve_allocates_nothing() {
     let p = problems::block([3, 4, 3], 1.0).unwrap();
     let models::verify::problems::Assembled { asm, k, .. } = p.assemble();
-    let mut statics = Statics::new(&asm, &p.fixed, Layout::Supernodal).unwrap();
+    let mut statics = Statics::new(&asm, &p.fixed, Factorization::Supernodal).unwrap();
     statics.factorize(&k).unwrap();
     let f = vec![0.0; p.mesh.n_dofs()];
     let mut u = p.prescribed.clone();

@@ -6,7 +6,7 @@ use models::assembly::plane::{self, Continuum, PlaneProperties, Truss};
 use models::assembly::{solid, Assembler};
 use models::element::Elastic;
 use models::mesh::{generate, Mesh2d, Mesh3d};
-use models::solve::{statics::reactions, Layout, Statics};
+use models::solve::{statics::reactions, Factorization, Statics};
 use models::stress;
 
 /// Deterministic pseudo-random numbers in [−1, 1] (a hash of the index).
@@ -86,7 +86,7 @@ fn tri3_patch_test_on_an_irregular_mesh() {
         u[2 * n] = ue[0];
         u[2 * n + 1] = ue[1];
     }
-    let mut statics = Statics::new(&asm, &fixed, Layout::Simplicial).unwrap();
+    let mut statics = Statics::new(&asm, &fixed, Factorization::Simplicial).unwrap();
     statics.factorize(&k).unwrap();
     statics.solve(asm.matrix(&k), &vec![0.0; mesh.n_dofs()], &mut u);
     let worst = (0..mesh.nodes().len())
@@ -196,7 +196,7 @@ fn tet4_patch_test_on_an_irregular_mesh() {
             u[3 * n + d] = ue[d];
         }
     }
-    let mut statics = Statics::new(&asm, &fixed, Layout::Supernodal).unwrap();
+    let mut statics = Statics::new(&asm, &fixed, Factorization::Supernodal).unwrap();
     statics.factorize(&k).unwrap();
     statics.solve(asm.matrix(&k), &vec![0.0; mesh.n_dofs()], &mut u);
     let worst = (0..mesh.nodes().len())
@@ -239,7 +239,7 @@ fn solve_truss(
         .iter()
         .flat_map(|n| [2 * n, 2 * n + 1])
         .collect();
-    let mut statics = Statics::new(&asm, &fixed, Layout::Simplicial).unwrap();
+    let mut statics = Statics::new(&asm, &fixed, Factorization::Simplicial).unwrap();
     statics.factorize(&k).unwrap();
     let mut u = vec![0.0; mesh.n_dofs()];
     statics.solve(asm.matrix(&k), f, &mut u);

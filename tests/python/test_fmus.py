@@ -1,7 +1,9 @@
 """The packaged FMUs as users run them: in fmpy (FMI 2.0 and 3.0), against the in-process
-scenes (the `reference` binary), with parameter changes mid-run and bad input."""
+scenes (`harness simulate`, the harness's one simulation loop), with parameter changes
+mid-run and bad input."""
 
 import csv
+import io
 import subprocess
 from pathlib import Path
 
@@ -15,7 +17,7 @@ from fmpy import extract
 
 ROOT = Path(__file__).resolve().parents[2]
 FMUS = ROOT / "target" / "fmu"
-REFERENCE = ROOT / "target" / "release" / "reference"
+HARNESS = ROOT / "target" / "release" / "harness"
 VERSIONS = ["fmi2", "fmi3"]
 SMALL_BLOCK = {"cells_x": 2.0, "cells_y": 4.0, "cells_z": 3.0}
 
@@ -27,13 +29,15 @@ def fmu(model, version):
 
 
 def reference(model, stop, step, params, outputs, input_csv=None):
-    args = [str(REFERENCE), model, str(stop), str(step)]
-    args += [f"{k}={v}" for k, v in params.items()]
+    """The in-process run: `harness simulate`, which samples inputs at the start of each
+    communication step and holds them, as fmpy does at communication points."""
+    args = [str(HARNESS), "simulate", model, "--stop-time", str(stop), "--step", str(step)]
+    args += [f"--set={k}={v}" for k, v in params.items()]
     if input_csv:
-        args.append(f"input={input_csv}")
-    args.append("out=" + ",".join(outputs))
+        args += ["--inputs", str(input_csv)]
+    args += ["--record", ",".join(outputs)]
     text = subprocess.run(args, check=True, capture_output=True, text=True).stdout
-    return np.array([[float(x) for x in line.split(",")] for line in text.strip().splitlines()])
+    return np.loadtxt(io.StringIO(text), delimiter=",", skiprows=1, ndmin=2)
 
 
 @pytest.mark.parametrize("model", ["abdomen", "cutblock"])

@@ -39,7 +39,7 @@ pub fn stiffness(p: &[[f64; 2]; 3], d: &Matrix3<f64>) -> SMatrix<f64, 6, 6> {
     b.transpose() * d * b * area
 }
 
-/// Consistent mass ρA/12 · [[2,1,1],[1,2,1],[1,1,2]] ⊗ I₂ (unit thickness).
+/// Consistent mass ρA/12 · `[[2,1,1],[1,2,1],[1,1,2]]` ⊗ I₂ (unit thickness).
 pub fn mass_consistent(p: &[[f64; 2]; 3], density: f64) -> SMatrix<f64, 6, 6> {
     let m = density * signed_area(p) / 12.0;
     let mut mass = SMatrix::<f64, 6, 6>::zeros();

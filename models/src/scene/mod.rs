@@ -5,45 +5,11 @@
 
 pub mod abdomen;
 pub mod cutblock;
+mod error;
 mod variables;
 
+pub use error::{ErrorKind, SceneError};
 pub use variables::{Causality, Start, Values, Variability, Variable, VariableKind};
-
-use thiserror::Error;
-
-use crate::error::ModelError;
-
-/// Errors of a scene: bad variable access, bad values, or a failure of the model.
-#[derive(Debug, Error, Clone, PartialEq)]
-pub enum SceneError {
-    #[error("unknown value reference {0}")]
-    UnknownVariable(u32),
-    #[error("variable `{name}` is {actual}, not {expected}")]
-    WrongKind {
-        name: String,
-        expected: &'static str,
-        actual: &'static str,
-    },
-    #[error("variable `{name}` expects {expected} values, got {got}")]
-    WrongLength {
-        name: String,
-        expected: usize,
-        got: usize,
-    },
-    #[error("value {value} for `{name}` is out of range [{min}, {max}]")]
-    OutOfRange {
-        name: String,
-        value: f64,
-        min: f64,
-        max: f64,
-    },
-    #[error("variable `{name}` cannot be set now: {reason}")]
-    NotSettable { name: String, reason: &'static str },
-    #[error("invalid configuration: {0}")]
-    Config(String),
-    #[error(transparent)]
-    Model(#[from] ModelError),
-}
 
 /// The scenes by name (the FMI model identifiers): `abdomen` and `cutblock`.
 pub const SCENES: [&str; 2] = ["abdomen", "cutblock"];
@@ -58,6 +24,25 @@ pub fn create(name: &str) -> Result<Box<dyn Scene>, SceneError> {
             SCENES.join(", ")
         ))),
     }
+}
+
+/// A parameter outside the variable table from which a scene writes its own configuration
+/// file (the abdomen's outline generator: `anatomy.outlet`, …).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GeneratorParameter {
+    pub name: String,
+    pub unit: &'static str,
+    pub min: f64,
+    pub max: f64,
+    pub description: &'static str,
+}
+
+/// A configuration file a scene generated: its text, and the string parameter that takes the
+/// file's path.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GeneratedConfiguration {
+    pub parameter: &'static str,
+    pub text: String,
 }
 
 /// A simulation scene. All methods return errors instead of panicking.
@@ -89,12 +74,44 @@ pub trait Scene: Send {
     /// read none ignore it.
     fn set_resource_dir(&mut self, _dir: &std::path::Path) {}
 
+    /// The parameters outside the variable table from which this scene can generate its
+    /// configuration file; none by default.
+    fn generator_parameters(&self) -> Vec<GeneratorParameter> {
+        Vec::new()
+    }
+
+    /// The configuration file generated from generator-parameter `values` (the others at
+    /// their defaults), with a name and a description; errors name the bad parameter.
+    fn generate_configuration(
+        &self,
+        _name: &str,
+        _description: &str,
+        _values: &[(&str, f64)],
+    ) -> Result<GeneratedConfiguration, SceneError> {
+        Err(SceneError::Config(
+            "this scene has no configuration generator".into(),
+        ))
+    }
+
     /// Looks a variable up by name.
     fn lookup(&self, name: &str) -> Result<u32, SceneError> {
         self.variables()
             .iter()
             .find(|v| v.name == name)
             .map(|v| v.vr)
-            .ok_or_else(|| SceneError::Config(format!("no variable named `{name}`")))
+            .ok_or_else(|| SceneError::UnknownName(name.to_string()))
+    }
+}
+
+/// Refuses a step size that is not finite and positive.
+fn check_step(h: f64) -> Result<(), SceneError> {
+    if h.is_finite() && h > 0.0 {
+        Ok(())
+    } else {
+        Err(SceneError::InvalidArgument {
+            name: "step size h",
+            value: h,
+            reason: "must be finite and > 0",
+        })
     }
 }

@@ -25,10 +25,10 @@ use crate::error::ModelError;
 /// diagonal; a physical stiffness contrast of 1e6 gives ratios near 1e-6.
 pub const PIVOT_RATIO_TOL: f64 = 1e-10;
 
-/// How faer lays out the factor. Simplicial is faster per solve for 2D meshes; supernodal
+/// How faer stores the Cholesky factor. Simplicial is faster per solve for 2D meshes; supernodal
 /// is much faster to factorize for 3D meshes (measured; see BENCHMARKS.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Layout {
+pub enum Factorization {
     #[default]
     Simplicial,
     Supernodal,
@@ -58,11 +58,11 @@ impl Cholesky {
     /// pattern stored with both triangles.
     pub fn analyze(
         pattern: SymbolicSparseColMatRef<'_, usize>,
-        layout: Layout,
+        factorization: Factorization,
     ) -> Result<Self, ModelError> {
-        let threshold = match layout {
-            Layout::Simplicial => SupernodalThreshold::FORCE_SIMPLICIAL,
-            Layout::Supernodal => SupernodalThreshold::FORCE_SUPERNODAL,
+        let threshold = match factorization {
+            Factorization::Simplicial => SupernodalThreshold::FORCE_SIMPLICIAL,
+            Factorization::Supernodal => SupernodalThreshold::FORCE_SUPERNODAL,
         };
         let params = CholeskySymbolicParams {
             supernodal_flop_ratio_threshold: threshold,
@@ -221,32 +221,35 @@ mod tests {
 
     #[test]
     fn solves_a_grounded_chain_in_both_layouts() {
-        for layout in [Layout::Simplicial, Layout::Supernodal] {
+        for factorization in [Factorization::Simplicial, Factorization::Supernodal] {
             let (asm, mut v) = chain(50, 3.0);
             // Ground node 0 with a spring of the same stiffness.
             let d0 = crate::assembly::slot(asm.symbolic(), 0, 0);
             v[d0] += 3.0;
-            let mut chol = Cholesky::analyze(asm.symbolic().as_ref(), layout).unwrap();
+            let mut chol = Cholesky::analyze(asm.symbolic().as_ref(), factorization).unwrap();
             chol.factorize(asm.matrix(&v)).unwrap();
             // Unit load at the free end: u_i = (i + 1)/k.
             let mut x = vec![0.0; 50];
             x[49] = 1.0;
             chol.solve_in_place(&mut x);
             for (i, xi) in x.iter().enumerate() {
-                assert!((xi - (i + 1) as f64 / 3.0).abs() < 1e-11, "{layout:?} {i}");
+                assert!(
+                    (xi - (i + 1) as f64 / 3.0).abs() < 1e-11,
+                    "{factorization:?} {i}"
+                );
             }
         }
     }
 
     #[test]
     fn floating_chain_is_singular_in_both_layouts() {
-        for layout in [Layout::Simplicial, Layout::Supernodal] {
+        for factorization in [Factorization::Simplicial, Factorization::Supernodal] {
             let (asm, v) = chain(40, 7.0);
-            let mut chol = Cholesky::analyze(asm.symbolic().as_ref(), layout).unwrap();
+            let mut chol = Cholesky::analyze(asm.symbolic().as_ref(), factorization).unwrap();
             let err = chol.factorize(asm.matrix(&v)).unwrap_err();
             assert!(
                 matches!(err, ModelError::Singular { .. }),
-                "{layout:?}: {err}"
+                "{factorization:?}: {err}"
             );
         }
     }

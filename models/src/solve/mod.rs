@@ -12,7 +12,7 @@ pub mod statics;
 pub mod structure;
 
 pub use central_difference::CentralDifference;
-pub use cholesky::{Cholesky, Layout};
+pub use cholesky::{Cholesky, Factorization};
 pub use houbolt::Houbolt;
 pub use integrator::{Integrator, IntegratorKind, Load, State};
 pub use newmark::Newmark;

@@ -4,7 +4,7 @@
 
 use faer::sparse::SparseColMatRef;
 
-use super::cholesky::{Cholesky, Layout};
+use super::cholesky::{Cholesky, Factorization};
 use crate::assembly::{mul_add, Assembler, Dirichlet};
 use crate::error::ModelError;
 
@@ -19,9 +19,13 @@ pub struct Statics {
 
 impl Statics {
     /// Symbolic analysis for the free–free part of `asm`'s pattern.
-    pub fn new(asm: &Assembler, constrained: &[usize], layout: Layout) -> Result<Self, ModelError> {
+    pub fn new(
+        asm: &Assembler,
+        constrained: &[usize],
+        factorization: Factorization,
+    ) -> Result<Self, ModelError> {
         let bc = Dirichlet::new(asm, constrained)?;
-        let chol = Cholesky::analyze(bc.symbolic().as_ref(), layout)?;
+        let chol = Cholesky::analyze(bc.symbolic().as_ref(), factorization)?;
         Ok(Self {
             reduced: vec![0.0; bc.nnz()],
             rhs: vec![0.0; bc.n_free()],

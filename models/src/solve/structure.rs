@@ -4,7 +4,7 @@
 
 use faer::sparse::SparseColMatRef;
 
-use super::cholesky::{Cholesky, Layout};
+use super::cholesky::{Cholesky, Factorization};
 use crate::assembly::{mul_add, Dirichlet};
 use crate::error::{non_negative, ModelError};
 
@@ -44,19 +44,20 @@ pub struct Structure {
     damped: bool,
     /// `Some(α)` when C = α M exactly: the history terms then need one product, not two.
     mass_proportional: Option<f64>,
-    layout: Layout,
+    factorization: Factorization,
 }
 
 impl Structure {
     /// Gathers the reduced matrices from full-pattern values `k_full`, `m_full` and the
-    /// full-length lumped mass. `layout` is the Cholesky layout implicit integrators use.
+    /// full-length lumped mass. `factorization` is the Cholesky storage implicit
+    /// integrators use.
     pub fn new(
         bc: Dirichlet,
         k_full: &[f64],
         m_full: &[f64],
         lumped_full: &[f64],
         damping: Damping,
-        layout: Layout,
+        factorization: Factorization,
     ) -> Result<Self, ModelError> {
         damping.check()?;
         let nnz = bc.nnz();
@@ -78,7 +79,7 @@ impl Structure {
             rayleigh: Some(damping),
             damped: false,
             mass_proportional: None,
-            layout,
+            factorization,
         };
         s.bc.combine(&[(1.0, m_full)], &mut s.m);
         s.set_stiffness(k_full);
@@ -154,7 +155,7 @@ impl Structure {
 
     /// A Cholesky factorization analysed for this structure's reduced pattern.
     pub fn analyze(&self) -> Result<Cholesky, ModelError> {
-        Cholesky::analyze(self.bc.symbolic().as_ref(), self.layout)
+        Cholesky::analyze(self.bc.symbolic().as_ref(), self.factorization)
     }
 
     /// out = f − C v − K u (the unbalanced force). Allocates nothing.

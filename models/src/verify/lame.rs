@@ -7,7 +7,7 @@ use crate::assembly::{loads, plane, Assembler};
 use crate::element::{tri3, Elastic};
 use crate::error::ModelError;
 use crate::mesh::{generate, Mesh2d};
-use crate::solve::{Layout, Statics};
+use crate::solve::{Factorization, Statics};
 
 /// The problem data: radii a < b (mm), pressure p (MPa), material.
 #[derive(Debug, Clone, Copy)]
@@ -69,7 +69,7 @@ impl Lame {
             // Walking from larger to smaller θ keeps the body on the left.
             loads::edge_pressure(mesh.nodes(), [w[1], w[0]], self.p, &mut f);
         }
-        let mut statics = Statics::new(&asm, &fixed, Layout::Simplicial)?;
+        let mut statics = Statics::new(&asm, &fixed, Factorization::Simplicial)?;
         statics.factorize(&k)?;
         let mut u = vec![0.0; mesh.n_dofs()];
         statics.solve(asm.matrix(&k), &f, &mut u);

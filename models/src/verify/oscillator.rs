@@ -7,7 +7,7 @@ use nalgebra::{Complex, Matrix1, Matrix3};
 
 use crate::assembly::{Assembler, Dirichlet};
 use crate::error::ModelError;
-use crate::solve::{Damping, IntegratorKind, Layout, Structure};
+use crate::solve::{Damping, Factorization, IntegratorKind, Structure};
 
 /// Period elongation T̄/T − 1 and amplitude decay per cycle 1 − A(t + T̄)/A(t).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,7 +23,7 @@ pub fn sdof(m: f64, k: f64, damping: Damping) -> Result<Structure, ModelError> {
     asm.add(&mut kv, 0, &Matrix1::new(k));
     asm.add(&mut mv, 0, &Matrix1::new(m));
     let bc = Dirichlet::new(&asm, &[])?;
-    Structure::new(bc, &kv, &mv, &[m], damping, Layout::Simplicial)
+    Structure::new(bc, &kv, &mv, &[m], damping, Factorization::Simplicial)
 }
 
 /// Houbolt on the undamped oscillator with Ω = ω Δt satisfies

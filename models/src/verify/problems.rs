@@ -7,7 +7,7 @@ use crate::assembly::{solid, Assembler, Dirichlet};
 use crate::element::Elastic;
 use crate::error::ModelError;
 use crate::mesh::{generate, Mesh2d, Mesh3d};
-use crate::solve::{Damping, Layout, Structure};
+use crate::solve::{Damping, Factorization, Structure};
 
 /// A 2D problem: mesh, properties, constrained dofs.
 #[derive(Debug, Clone)]
@@ -32,10 +32,10 @@ impl Assembled {
         &self,
         fixed: &[usize],
         damping: Damping,
-        layout: Layout,
+        factorization: Factorization,
     ) -> Result<Structure, ModelError> {
         let bc = Dirichlet::new(&self.asm, fixed)?;
-        Structure::new(bc, &self.k, &self.m, &self.lumped, damping, layout)
+        Structure::new(bc, &self.k, &self.m, &self.lumped, damping, factorization)
     }
 }
 

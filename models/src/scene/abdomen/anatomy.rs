@@ -54,22 +54,117 @@ impl Default for Anatomy {
     }
 }
 
+/// The generator's fields: name, unit, admissible range and meaning, in declaration order.
+pub const FIELDS: [(&str, &str, f64, f64, &str); 9] = [
+    (
+        "height",
+        "mm",
+        100.0,
+        600.0,
+        "coccyx level to the top of the diaphragm dome",
+    ),
+    (
+        "depth",
+        "mm",
+        60.0,
+        400.0,
+        "spine to abdominal wall at the rib margin",
+    ),
+    (
+        "dome",
+        "mm",
+        0.0,
+        150.0,
+        "rise of the diaphragm dome above its ends",
+    ),
+    (
+        "lordosis",
+        "mm",
+        -20.0,
+        80.0,
+        "anterior bulge of the lumbar spine",
+    ),
+    (
+        "outlet",
+        "mm",
+        50.0,
+        200.0,
+        "coccyx tip to pubic bone (pelvic outlet)",
+    ),
+    (
+        "pelvic_tilt",
+        "°",
+        -10.0,
+        60.0,
+        "rise of the coccyx–pubis line anteriorly",
+    ),
+    (
+        "floor_sag",
+        "mm",
+        0.0,
+        60.0,
+        "sag of the pelvic floor below the coccyx–pubis line",
+    ),
+    (
+        "symphysis",
+        "mm",
+        10.0,
+        100.0,
+        "height of the pubic symphysis",
+    ),
+    (
+        "wall_bulge",
+        "mm",
+        -20.0,
+        100.0,
+        "anterior bulge of the abdominal wall at mid height",
+    ),
+];
+
 impl Anatomy {
+    /// The fields' values in the order of [`FIELDS`].
+    fn values(&self) -> [f64; 9] {
+        [
+            self.height,
+            self.depth,
+            self.dome,
+            self.lordosis,
+            self.outlet,
+            self.pelvic_tilt,
+            self.floor_sag,
+            self.symphysis,
+            self.wall_bulge,
+        ]
+    }
+
+    /// Sets one field by name; an unknown name is an error listing the fields.
+    pub fn set(&mut self, field: &str, value: f64) -> Result<(), SceneError> {
+        let slot = match field {
+            "height" => &mut self.height,
+            "depth" => &mut self.depth,
+            "dome" => &mut self.dome,
+            "lordosis" => &mut self.lordosis,
+            "outlet" => &mut self.outlet,
+            "pelvic_tilt" => &mut self.pelvic_tilt,
+            "floor_sag" => &mut self.floor_sag,
+            "symphysis" => &mut self.symphysis,
+            "wall_bulge" => &mut self.wall_bulge,
+            _ => {
+                let names: Vec<&str> = FIELDS.iter().map(|f| f.0).collect();
+                return Err(SceneError::Config(format!(
+                    "the anatomy has no field `{field}` (fields: {})",
+                    names.join(", ")
+                )));
+            }
+        };
+        *slot = value;
+        Ok(())
+    }
+
     /// Control points of the outline; errors name a parameter out of its range.
     pub fn control_points(&self) -> Result<ControlPoints, SceneError> {
-        let checks = [
-            ("height", self.height, 100.0, 600.0),
-            ("depth", self.depth, 60.0, 400.0),
-            ("dome", self.dome, 0.0, 150.0),
-            ("lordosis", self.lordosis, -20.0, 80.0),
-            ("outlet", self.outlet, 50.0, 200.0),
-            ("pelvic_tilt", self.pelvic_tilt, -10.0, 60.0),
-            ("floor_sag", self.floor_sag, 0.0, 60.0),
-            ("symphysis", self.symphysis, 10.0, 100.0),
-            ("wall_bulge", self.wall_bulge, -20.0, 100.0),
-        ];
-        for (name, value, lo, hi) in checks {
-            if !(value.is_finite() && value >= lo && value <= hi) {
+        for ((name, _, lo, hi, _), value) in FIELDS.iter().zip(self.values()) {
+            if !(value.is_finite() && value >= *lo && value <= *hi) {
                 return Err(SceneError::Config(format!(
                     "anatomy.{name} = {value} is outside [{lo}, {hi}]"
                 )));
@@ -101,5 +196,29 @@ impl Anatomy {
             abdominal_wall: vec![symphysis_top, wall_mid, wall_top],
             diaphragm: vec![wall_top, apex, spine_top],
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_field_is_set_by_its_name() {
+        let mut a = Anatomy::default();
+        for (i, (name, ..)) in FIELDS.iter().enumerate() {
+            a.set(name, 1000.0 + i as f64).unwrap();
+            assert_eq!(a.values()[i], 1000.0 + i as f64, "{name}");
+        }
+        let e = a.set("outlett", 1.0).unwrap_err().to_string();
+        assert!(e.contains("outlett") && e.contains("outlet,"), "{e}");
+    }
+
+    #[test]
+    fn out_of_range_fields_are_named() {
+        let mut a = Anatomy::default();
+        a.set("floor_sag", 61.0).unwrap();
+        let e = a.control_points().unwrap_err().to_string();
+        assert!(e.contains("anatomy.floor_sag = 61"), "{e}");
     }
 }

@@ -21,6 +21,9 @@ use super::anatomy::Anatomy;
 use super::geometry::ControlPoints;
 use crate::scene::SceneError;
 
+/// Prefix of the anatomy parameters that generate a configuration: `anatomy.outlet`, ….
+pub const ANATOMY: &str = "anatomy.";
+
 /// A configuration file's content.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -83,6 +86,36 @@ impl PelvisConfig {
             )));
         }
         Self::load(&path)
+    }
+
+    /// A configuration generated from anatomy fields (`anatomy.<field>` = value) over the
+    /// default anatomy, as TOML text; errors name the bad field or value.
+    pub fn generated(
+        name: &str,
+        description: &str,
+        fields: &[(&str, f64)],
+    ) -> Result<String, SceneError> {
+        let mut anatomy = Anatomy::default();
+        for (key, value) in fields {
+            let field = key.strip_prefix(ANATOMY).ok_or_else(|| {
+                SceneError::Config(format!(
+                    "`{key}` is not an anatomy parameter ({ANATOMY}<field>)"
+                ))
+            })?;
+            anatomy.set(field, *value).map_err(|e| match e {
+                SceneError::Config(m) => SceneError::Config(format!("`{key}`: {m}")),
+                other => other,
+            })?;
+        }
+        anatomy.control_points()?;
+        let config = Self {
+            name: name.into(),
+            description: description.into(),
+            control_points: None,
+            anatomy: Some(anatomy),
+        };
+        toml::to_string(&config)
+            .map_err(|e| SceneError::Config(format!("writing configuration `{name}`: {e}")))
     }
 
     /// The control points, generating them from the anatomy if needed.

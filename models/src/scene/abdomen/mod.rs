@@ -22,221 +22,26 @@ pub mod anatomy;
 pub mod config;
 pub mod geometry;
 pub mod mesher;
+mod model;
 mod outputs;
+mod variables;
 
 use std::path::PathBuf;
 
-use config::PelvisConfig;
+use config::{PelvisConfig, ANATOMY};
 use mesher::Meshed;
-use outputs::OutputPlan;
+use model::{properties, Model};
+use variables::{
+    table, FIRST_OUTPUT, INTEGRATOR, MAX_STEP, PRESS_AMPLITUDE, PRESS_FORCE, PRESS_FREQUENCY,
+    TISSUE_BASE, WALL_SUPPORT,
+};
 
-use super::{Scene, SceneError, Values, Variability, Variable};
-use crate::assembly::plane::{self, Continuum, PlaneProperties, Truss};
-use crate::assembly::{loads, Assembler, Dirichlet};
-use crate::element::Elastic;
+use super::{
+    check_step, GeneratedConfiguration, GeneratorParameter, Scene, SceneError, Values, Variable,
+};
+use crate::assembly::plane::PlaneProperties;
 use crate::mesh::Mesh2d;
-use crate::solve::{Damping, Integrator, IntegratorKind, Layout, Statics, Structure};
-use crate::stress::TriangleStresses;
-
-/// Tissue names as used in variable names: the cavity (triangles) and the three membranes
-/// (line regions 0, 1, 2).
-const TISSUES: [&str; 4] = ["cavity", "diaphragm", "wall", "floor"];
-
-const CONFIGURATION: u32 = 0;
-const TARGET_TRIANGLES: u32 = 1;
-const WALL_SUPPORT: u32 = 2;
-const INTEGRATOR: u32 = 3;
-const MAX_STEP: u32 = 4;
-/// First of the 4 × 4 tissue parameters: E, ν or area, density, damping per tissue.
-const TISSUE_BASE: u32 = 5;
-const PRESS_AMPLITUDE: u32 = 21;
-const PRESS_FREQUENCY: u32 = 22;
-const PRESS_FORCE: u32 = 23;
-const FIRST_OUTPUT: u32 = 24;
-
-fn tissue_vr(tissue: usize, field: u32) -> u32 {
-    TISSUE_BASE + 4 * tissue as u32 + field
-}
-
-fn table() -> Vec<Variable> {
-    use Variability::{Fixed, Tunable};
-    let mut t = vec![
-        Variable::string("configuration", "", "pelvis/spine configuration: empty = built-in default, a shipped name (normal, narrow, wide, lordotic, tilted) or a TOML file path"),
-        Variable::parameter("target_triangles", Fixed, "1", 6000.0, (50.0, 500_000.0), "mesh resolution: approximate number of triangles"),
-        Variable::string("abdominal_wall", "free", "`free` or `fixed` (seed 003: the wall can additionally be fixed)"),
-        Variable::string("integrator", "houbolt", "houbolt, newmark, central_difference or rk4"),
-        Variable::parameter("max_step", Fixed, "s", 1e-3, (1e-8, 10.0), "largest internal time step; a communication step is split into equal substeps"),
-    ];
-    let defaults = [(0.005, 0.45), (0.2, 4.0), (0.0225, 20.0), (0.1, 8.0)];
-    for (i, name) in TISSUES.iter().enumerate() {
-        let (e, second) = defaults[i];
-        t.push(Variable::parameter(
-            &format!("{name}_E"),
-            Tunable,
-            "MPa",
-            e,
-            (1e-9, 1e6),
-            &format!("Young's modulus of the {name}"),
-        ));
-        t.push(if i == 0 {
-            Variable::parameter(
-                "cavity_nu",
-                Tunable,
-                "1",
-                second,
-                (-0.99, 0.499_999),
-                "Poisson's ratio of the cavity contents",
-            )
-        } else {
-            Variable::parameter(
-                &format!("{name}_area"),
-                Fixed,
-                "mm2",
-                second,
-                (1e-6, 1e4),
-                &format!("cross-section of the {name} line elements per mm of depth"),
-            )
-        });
-        t.push(Variable::parameter(
-            &format!("{name}_density"),
-            Fixed,
-            "t/mm3",
-            1e-9,
-            (1e-15, 1e-6),
-            &format!("density of the {name}"),
-        ));
-        t.push(Variable::parameter(
-            &format!("{name}_damping"),
-            Fixed,
-            "1/s",
-            5.0,
-            (0.0, 1e6),
-            &format!("mass-proportional damping coefficient of the {name}"),
-        ));
-    }
-    t.extend([
-        Variable::input(
-            "press_amplitude",
-            "N/mm",
-            0.8,
-            (-1e3, 1e3),
-            "amplitude of the sinusoidal pressing force on the diaphragm, per mm depth",
-        ),
-        Variable::input(
-            "press_frequency",
-            "Hz",
-            0.5,
-            (0.0, 1e3),
-            "frequency of the sinusoidal pressing force",
-        ),
-        Variable::input(
-            "press_force",
-            "N/mm",
-            0.0,
-            (-1e3, 1e3),
-            "pressing force added to the sinusoid, supplied each step by the importer",
-        ),
-        Variable::output(
-            "floor_stress_mean",
-            "MPa",
-            1,
-            "length-weighted mean axial stress of the pelvic-floor line elements (tension > 0)",
-        ),
-        Variable::output(
-            "floor_stress_max",
-            "MPa",
-            1,
-            "largest axial stress of the pelvic-floor line elements",
-        ),
-        Variable::output(
-            "floor_triangles_vm_mean",
-            "MPa",
-            1,
-            "area-weighted mean von Mises stress of the triangles along the pelvic floor",
-        ),
-        Variable::output(
-            "floor_triangles_vm_max",
-            "MPa",
-            1,
-            "largest von Mises stress of the triangles along the pelvic floor",
-        ),
-        Variable::output(
-            "cavity_vm_mean",
-            "MPa",
-            1,
-            "area-weighted mean von Mises stress of all triangles",
-        ),
-        Variable::output(
-            "cavity_vm_max",
-            "MPa",
-            1,
-            "largest von Mises stress of all triangles",
-        ),
-        Variable::output(
-            "apex_ux",
-            "mm",
-            1,
-            "x-displacement of the diaphragm apex (highest diaphragm node)",
-        ),
-        Variable::output("apex_uy", "mm", 1, "y-displacement of the diaphragm apex"),
-        Variable::output(
-            "floor_mid_ux",
-            "mm",
-            1,
-            "x-displacement of the pelvic-floor midpoint",
-        ),
-        Variable::output(
-            "floor_mid_uy",
-            "mm",
-            1,
-            "y-displacement of the pelvic-floor midpoint",
-        ),
-        Variable::output(
-            "wall_mid_ux",
-            "mm",
-            1,
-            "x-displacement of the abdominal-wall midpoint",
-        ),
-        Variable::output(
-            "wall_mid_uy",
-            "mm",
-            1,
-            "y-displacement of the abdominal-wall midpoint",
-        ),
-        Variable::output(
-            "press_total",
-            "N/mm",
-            1,
-            "pressing force applied at the current time",
-        ),
-    ]);
-    t
-}
-
-/// Everything built at initialization.
-struct Model {
-    meshed: Meshed,
-    props: PlaneProperties,
-    asm: Assembler,
-    k: Vec<f64>,
-    structure: Structure,
-    integrator: Box<dyn Integrator + Send>,
-    /// Reduced load vector of a unit pressing force, and the work vector for the load.
-    unit_load: Vec<f64>,
-    fixed: Vec<usize>,
-    u_full: Vec<f64>,
-    /// Stress operators of the triangles for the current properties.
-    stresses: TriangleStresses,
-    outputs: OutputPlan,
-}
-
-impl std::fmt::Debug for Model {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Model")
-            .field("triangles", &self.meshed.mesh.triangles().len())
-            .finish()
-    }
-}
+use crate::solve::IntegratorKind;
 
 /// The scene. Build with [`Abdomen::new`], set parameters, `initialize`, then step.
 #[derive(Debug)]
@@ -313,102 +118,18 @@ impl Abdomen {
 
     /// The static displacement (all dofs) under a constant pressing force `force` (N/mm).
     pub fn static_displacement(&self, force: f64) -> Result<Vec<f64>, SceneError> {
-        let m = self.model.as_ref().ok_or_else(not_initialized)?;
-        let mut statics = Statics::new(&m.asm, &m.fixed, Layout::Simplicial)?;
-        statics.factorize(&m.k)?;
-        let mut f = vec![0.0; m.meshed.mesh.n_dofs()];
-        m.structure.dirichlet().expand(&m.unit_load, &mut f);
-        f.iter_mut().for_each(|x| *x *= force);
-        let mut u = vec![0.0; f.len()];
-        statics.solve(m.asm.matrix(&m.k), &f, &mut u);
-        Ok(u)
+        self.built("static_displacement")?
+            .static_displacement(force)
     }
 
     /// The outputs (table order, from `floor_stress_mean` on) for a displacement field of all
     /// dofs, e.g. one from [`Abdomen::static_displacement`].
     pub fn evaluate(&self, u_full: &[f64], press: f64) -> Result<Vec<f64>, SceneError> {
-        let m = self.model.as_ref().ok_or_else(not_initialized)?;
+        let m = self.built("evaluate")?;
         let outputs = m
             .outputs
             .compute(&m.meshed.mesh, &m.props, &m.stresses, u_full, press);
         Ok(outputs.to_vec())
-    }
-
-    fn properties(&self) -> Result<PlaneProperties, SceneError> {
-        let v = |tissue: usize, field: u32| self.values.real(tissue_vr(tissue, field));
-        let continuum = Continuum {
-            elastic: Elastic::new("cavity", v(0, 0), v(0, 1))?,
-            density: v(0, 2),
-        };
-        let trusses = (1..4)
-            .map(|t| Truss::new(TISSUES[t], v(t, 0), v(t, 1), v(t, 2)))
-            .collect::<Result<_, _>>()?;
-        Ok(PlaneProperties {
-            continua: vec![continuum],
-            trusses,
-        })
-    }
-
-    /// Properties whose "density" is α_t ρ_t: their mass matrix is the damping matrix.
-    fn damping_properties(&self, props: &PlaneProperties) -> PlaneProperties {
-        let alpha = |t: usize| self.values.real(tissue_vr(t, 3));
-        let mut d = props.clone();
-        d.continua[0].density *= alpha(0);
-        for (i, truss) in d.trusses.iter_mut().enumerate() {
-            truss.density *= alpha(i + 1);
-        }
-        d
-    }
-
-    fn build(&self) -> Result<Model, SceneError> {
-        let config = PelvisConfig::resolve(self.values.string(CONFIGURATION)?, &self.resources)?;
-        let target = self.values.real(TARGET_TRIANGLES) as usize;
-        let meshed = mesher::mesh(&config.control_points()?, target)?;
-        let mesh = &meshed.mesh;
-        let props = self.properties()?;
-        let asm = plane::assembler(mesh);
-        let (mut k, mut m, mut c) = (asm.zeros(), asm.zeros(), asm.zeros());
-        plane::stiffness(mesh, &asm, &props, &mut k);
-        plane::mass(mesh, &asm, &props, &mut m);
-        plane::mass(mesh, &asm, &self.damping_properties(&props), &mut c);
-        let lumped = plane::lumped_mass(mesh, &props);
-        let mut supported = vec!["spine", "pelvic_bone"];
-        match self.values.string(WALL_SUPPORT)? {
-            "free" => {}
-            "fixed" => supported.push("abdominal_wall"),
-            other => {
-                return Err(SceneError::Config(format!(
-                    "abdominal_wall `{other}`: use `free` or `fixed`"
-                )))
-            }
-        }
-        let mut fixed = Vec::new();
-        for set in supported {
-            fixed.extend(
-                mesh.node_sets()
-                    .get(set)?
-                    .iter()
-                    .flat_map(|n| [2 * n, 2 * n + 1]),
-            );
-        }
-        let bc = Dirichlet::new(&asm, &fixed)?;
-        let mut structure = Structure::new(bc, &k, &m, &lumped, Damping::NONE, Layout::Simplicial)?;
-        structure.set_damping_matrix(&c);
-        let unit_load = diaphragm_unit_load(mesh, structure.dirichlet())?;
-        let kind = IntegratorKind::parse(self.values.string(INTEGRATOR)?)?;
-        Ok(Model {
-            stresses: TriangleStresses::new(mesh, &props),
-            outputs: OutputPlan::new(mesh)?,
-            u_full: vec![0.0; mesh.n_dofs()],
-            meshed,
-            props,
-            asm,
-            k,
-            structure,
-            integrator: kind.create(),
-            unit_load,
-            fixed,
-        })
     }
 
     /// The pressing force (N/mm) at time t.
@@ -420,52 +141,25 @@ impl Abdomen {
         self.values.real(PRESS_FORCE) + a * (2.0 * std::f64::consts::PI * f * t).sin()
     }
 
+    /// The built model, or an error naming what needed it.
+    fn built(&self, what: &str) -> Result<&Model, SceneError> {
+        self.model
+            .as_ref()
+            .ok_or_else(|| SceneError::NotInitialized { name: what.into() })
+    }
+
     fn update_stiffness(&mut self) -> Result<(), SceneError> {
-        let props = self.properties()?;
-        let m = self.model.as_mut().ok_or_else(not_initialized)?;
-        plane::stiffness(&m.meshed.mesh, &m.asm, &props, &mut m.k);
-        m.structure.set_stiffness(&m.k);
-        m.stresses = TriangleStresses::new(&m.meshed.mesh, &props);
-        m.props = props;
-        let dt = m.integrator.dt();
-        m.integrator.prepare(&m.structure, dt)?;
+        let props = properties(&self.values)?;
+        let m = self
+            .model
+            .as_mut()
+            .ok_or_else(|| SceneError::NotInitialized {
+                name: "do_step".into(),
+            })?;
+        m.set_properties(props)?;
         self.stiffness_changed = false;
         Ok(())
     }
-}
-
-fn not_initialized() -> SceneError {
-    SceneError::NotSettable {
-        name: "abdomen".into(),
-        reason: "the scene is not initialized",
-    }
-}
-
-/// Consistent nodal loads (free dofs) of a unit total force spread as a uniform pressure over
-/// the diaphragm, normal to it and into the cavity.
-fn diaphragm_unit_load(mesh: &Mesh2d, bc: &Dirichlet) -> Result<Vec<f64>, SceneError> {
-    let lines: Vec<[usize; 2]> = mesh
-        .lines()
-        .iter()
-        .zip(mesh.line_regions())
-        .filter(|(_, &r)| r == 0)
-        .map(|(l, _)| *l)
-        .collect();
-    let length: f64 = lines
-        .iter()
-        .map(|l| {
-            let (a, b) = (mesh.nodes()[l[0]], mesh.nodes()[l[1]]);
-            (b[0] - a[0]).hypot(b[1] - a[1])
-        })
-        .sum();
-    let mut f = vec![0.0; mesh.n_dofs()];
-    for l in &lines {
-        // Line elements run in boundary order (counter-clockwise): the cavity lies to the left.
-        loads::edge_pressure(mesh.nodes(), *l, 1.0 / length, &mut f);
-    }
-    let mut reduced = vec![0.0; bc.n_free()];
-    bc.reduce(&f, &mut reduced);
-    Ok(reduced)
 }
 
 impl Scene for Abdomen {
@@ -477,10 +171,35 @@ impl Scene for Abdomen {
         self.resources = dir.join("pelvis");
     }
 
+    fn generator_parameters(&self) -> Vec<GeneratorParameter> {
+        anatomy::FIELDS
+            .iter()
+            .map(|&(field, unit, min, max, description)| GeneratorParameter {
+                name: format!("{ANATOMY}{field}"),
+                unit,
+                min,
+                max,
+                description,
+            })
+            .collect()
+    }
+
+    fn generate_configuration(
+        &self,
+        name: &str,
+        description: &str,
+        values: &[(&str, f64)],
+    ) -> Result<GeneratedConfiguration, SceneError> {
+        Ok(GeneratedConfiguration {
+            parameter: "configuration",
+            text: PelvisConfig::generated(name, description, values)?,
+        })
+    }
+
     fn set_real(&mut self, vr: u32, values: &[f64]) -> Result<(), SceneError> {
         self.values.set_real(vr, values)?;
         if (TISSUE_BASE..PRESS_AMPLITUDE).contains(&vr) {
-            self.properties()?;
+            properties(&self.values)?;
             self.stiffness_changed = self.model.is_some();
         }
         Ok(())
@@ -491,7 +210,11 @@ impl Scene for Abdomen {
             return Ok(());
         }
         let press = self.press(self.time);
-        let m = self.model.as_ref().ok_or_else(not_initialized)?;
+        let Some(m) = &self.model else {
+            return Err(SceneError::NotInitialized {
+                name: self.values.variable(vr)?.name.clone(),
+            });
+        };
         let outputs = self.outputs.get_or_insert_with(|| {
             m.outputs
                 .compute(&m.meshed.mesh, &m.props, &m.stresses, &m.u_full, press)
@@ -505,9 +228,7 @@ impl Scene for Abdomen {
             IntegratorKind::parse(value)?;
         }
         if vr == WALL_SUPPORT && !matches!(value, "free" | "fixed") {
-            return Err(SceneError::Config(format!(
-                "abdominal_wall `{value}`: use `free` or `fixed`"
-            )));
+            return Err(model::wall_error(value));
         }
         self.values.set_string(vr, value)
     }
@@ -517,7 +238,7 @@ impl Scene for Abdomen {
     }
 
     fn initialize(&mut self) -> Result<(), SceneError> {
-        let mut model = self.build()?;
+        let mut model = Model::build(&self.values, &self.resources)?;
         let dt = self.values.real(MAX_STEP);
         model.integrator.prepare(&model.structure, dt)?;
         let n = model.structure.n();
@@ -541,11 +262,7 @@ impl Scene for Abdomen {
     }
 
     fn do_step(&mut self, t: f64, h: f64) -> Result<(), SceneError> {
-        if !(h.is_finite() && h > 0.0) {
-            return Err(SceneError::Config(format!(
-                "step size h = {h} must be finite and > 0"
-            )));
-        }
+        check_step(h)?;
         if self.stiffness_changed {
             self.update_stiffness()?;
         }
@@ -556,7 +273,11 @@ impl Scene for Abdomen {
             self.values.real(PRESS_FREQUENCY),
             self.values.real(PRESS_FORCE),
         );
-        let m = self.model.as_mut().ok_or_else(not_initialized)?;
+        let Some(m) = &mut self.model else {
+            return Err(SceneError::NotInitialized {
+                name: "do_step".into(),
+            });
+        };
         // Importers compute h as a difference of communication points, which jitters in the
         // last bits; such a step reuses the factorization (the step still ends at t + h).
         if (dt - m.integrator.dt()).abs() <= 1e-9 * dt {
@@ -566,11 +287,11 @@ impl Scene for Abdomen {
         }
         if let Some(limit) = m.integrator.critical_time_step() {
             if dt > limit {
-                return Err(SceneError::Config(format!(
-                    "{} is unstable at dt = {dt:e} s: its stability limit here is {limit:e} s; \
-                     lower max_step or use houbolt/newmark",
-                    m.integrator.kind().name()
-                )));
+                return Err(SceneError::Unstable {
+                    integrator: m.integrator.kind().name(),
+                    dt,
+                    limit,
+                });
             }
         }
         let unit = &m.unit_load;

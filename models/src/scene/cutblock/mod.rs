@@ -15,7 +15,7 @@ mod topology;
 use outputs::Outputs;
 use topology::{Geometry, Options, Strategy, Support, Topology};
 
-use super::{Scene, SceneError, Values, Variability, Variable};
+use super::{check_step, Scene, SceneError, Values, Variability, Variable};
 use crate::element::Elastic;
 
 /// Laser-profile stations: y = 0, 0.5, …, 90 mm in lab coordinates (the default block
@@ -178,10 +178,12 @@ impl CutBlock {
     /// Brings the topology up to date with the scalpel position and the material, then
     /// solves for the current loads.
     fn solve(&mut self) -> Result<(), SceneError> {
-        let geometry = self.geometry.as_ref().ok_or(SceneError::NotSettable {
-            name: "do_step".into(),
-            reason: "the scene is not initialized",
-        })?;
+        let geometry = self
+            .geometry
+            .as_ref()
+            .ok_or_else(|| SceneError::NotInitialized {
+                name: "do_step".into(),
+            })?;
         let material = self.material()?;
         let cells = geometry.cut_cells(self.values.real(SCALPEL));
         match &mut self.topology {
@@ -226,9 +228,8 @@ impl Scene for CutBlock {
             return Ok(());
         }
         let (Some(geometry), Some(topology)) = (&self.geometry, &self.topology) else {
-            return Err(SceneError::NotSettable {
+            return Err(SceneError::NotInitialized {
                 name: self.values.variable(vr)?.name.clone(),
-                reason: "outputs exist only after initialization",
             });
         };
         let outputs = self
@@ -265,11 +266,7 @@ impl Scene for CutBlock {
     }
 
     fn do_step(&mut self, _t: f64, h: f64) -> Result<(), SceneError> {
-        if !(h.is_finite() && h > 0.0) {
-            return Err(SceneError::Config(format!(
-                "step size h = {h} must be finite and > 0"
-            )));
-        }
+        check_step(h)?;
         self.solve()
     }
 }

@@ -8,7 +8,7 @@ use crate::element::Elastic;
 use crate::mesh::cut::{self, CutMesh, Incision};
 use crate::mesh::{generate, Mesh3d};
 use crate::scene::SceneError;
-use crate::solve::{Layout, Statics};
+use crate::solve::{Factorization, Statics};
 
 /// How the incision is made (seed 002 §1.4 / §3.4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -244,7 +244,7 @@ impl Topology {
                 Assembler::new(mesh.nodes().len(), 3, &elements)
             }
         };
-        let statics = Statics::new(&asm, &fixed, Layout::Supernodal)?;
+        let statics = Statics::new(&asm, &fixed, Factorization::Supernodal)?;
         let n_dofs = mesh.n_dofs();
         let mut t = Self {
             cut_cells: cells,
@@ -336,9 +336,10 @@ impl Topology {
             c.active = springs;
             self.factorize()?;
         }
-        Err(SceneError::Config(format!(
-            "flank contact did not settle in {CONTACT_ITERATIONS} active-set iterations"
-        )))
+        Err(SceneError::NotConverged {
+            what: "the flank contact's active set",
+            iterations: CONTACT_ITERATIONS,
+        })
     }
 
     /// The press force as a uniform pressure over the top faces whose centroid lies within
@@ -389,13 +390,12 @@ fn check_supported(mesh: &Mesh3d, clamped: &[usize]) -> Result<(), SceneError> {
     let mut bodies: Vec<usize> = comp.clone();
     bodies.sort_unstable();
     bodies.dedup();
-    if let Some(free) = comp.iter().position(|c| !supported.contains(c)) {
-        return Err(SceneError::Config(format!(
-            "the cut separates the block into {} bodies; the body containing node {free} at {:?} mm \
-             does not touch the supported face y = 0 and would float",
-            bodies.len(),
-            mesh.nodes()[free]
-        )));
+    if let Some(node) = comp.iter().position(|c| !supported.contains(c)) {
+        return Err(SceneError::Separated {
+            bodies: bodies.len(),
+            node,
+            at: mesh.nodes()[node],
+        });
     }
     Ok(())
 }

@@ -3,12 +3,13 @@
 //! against a converged reference (finest mesh, smallest step, Houbolt); and a stability table
 //! of what each integrator does on the hard cases. Results go to a CSV written atomically.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use anyhow::{Context, Result};
 use models::scene::abdomen::Abdomen;
-use models::scene::Scene;
+
+use crate::sweep::{simulate, simulate_observed, InProcess, Schedule, Value};
 
 /// One measured case.
 #[derive(Debug, Clone, PartialEq)]
@@ -45,6 +46,15 @@ impl Default for Study {
     }
 }
 
+/// The settings of one configuration of the abdomen.
+fn settings(triangles: usize, integrator: &str, dt: f64) -> Vec<(String, Value)> {
+    vec![
+        ("target_triangles".into(), Value::Real(triangles as f64)),
+        ("max_step".into(), Value::Real(dt)),
+        ("integrator".into(), Value::Text(integrator.into())),
+    ]
+}
+
 /// Samples of `floor_stress_max` every 10 ms over `duration`, with set-up and mean step time.
 fn run(
     triangles: usize,
@@ -52,28 +62,26 @@ fn run(
     dt: f64,
     duration: f64,
 ) -> Result<(Vec<f64>, f64, f64, usize)> {
-    let start = Instant::now();
-    let mut s = Abdomen::new();
-    s.set("target_triangles", triangles as f64)?;
-    s.set("max_step", dt)?;
-    s.set_str("integrator", integrator)?;
-    s.initialize()?;
-    let setup = start.elapsed().as_secs_f64() * 1e3;
-    let n_tri = s.meshed().map_or(0, |m| m.mesh.triangles().len());
-    let vr = s.lookup("floor_stress_max")?;
-    let sample = 1e-2;
-    let (mut samples, mut stepping) = (Vec::new(), 0.0);
-    let mut x = [0.0];
-    let n = (duration / sample).round() as usize;
-    for k in 0..n {
-        let t0 = Instant::now();
-        s.do_step(k as f64 * sample, sample)?;
-        stepping += t0.elapsed().as_secs_f64();
-        s.get_real(vr, &mut x)?;
-        samples.push(x[0]);
-    }
+    let settings = settings(triangles, integrator, dt);
+    let record = ["floor_stress_max".to_string()];
+    let schedule = Schedule {
+        stop_time: duration,
+        step: 1e-2,
+        settings: &settings,
+        inputs: &BTreeMap::new(),
+        record: &record,
+    };
+    let mut session = InProcess(Box::new(Abdomen::new()));
+    let run = simulate(&mut session, &schedule)?;
+    let n_tri = session.0.meshed().map_or(0, |m| m.mesh.triangles().len());
+    let samples = run.series.column("floor_stress_max").context("recorded")?;
     let steps = (duration / dt).round().max(1.0);
-    Ok((samples, setup, stepping * 1e3 / steps, n_tri))
+    Ok((
+        samples[1..].to_vec(),
+        run.setup.as_secs_f64() * 1e3,
+        run.stepping.as_secs_f64() * 1e3 / steps,
+        n_tri,
+    ))
 }
 
 /// Runs the study.
@@ -139,34 +147,40 @@ pub fn stability() -> Vec<Stability> {
         ("dt = 1 ms (above explicit limits)", &[], 1e-3),
     ];
     let mut out = Vec::new();
-    for (case, settings, dt) in cases {
+    for (case, extra, dt) in cases {
         for integrator in ["houbolt", "newmark", "central_difference", "rk4"] {
-            let outcome = (|| -> Result<String> {
-                let mut s = Abdomen::new();
-                s.set("target_triangles", 800.0)?;
-                s.set("max_step", dt)?;
-                s.set_str("integrator", integrator)?;
-                for (k, v) in settings {
-                    s.set(k, *v)?;
-                }
-                s.initialize()?;
-                let mut peak: f64 = 0.0;
-                let steps = ((0.1 / dt).round() as usize).max(1);
-                for k in 0..steps {
-                    s.do_step(k as f64 * dt, dt)?;
-                    peak = peak.max(
-                        s.field()
-                            .map_or(0.0, |f| f.2.iter().fold(0.0f64, |a, b| a.max(b.abs()))),
-                    );
-                }
-                Ok(format!("bounded (peak |u| {peak:.3e} mm)"))
-            })()
-            .unwrap_or_else(|e| {
-                format!(
+            let mut settings = settings(800, integrator, dt);
+            settings.extend(extra.iter().map(|&(k, v)| (k.to_string(), Value::Real(v))));
+            let schedule = Schedule {
+                stop_time: ((0.1 / dt).round()).max(1.0) * dt,
+                step: dt,
+                settings: &settings,
+                inputs: &BTreeMap::new(),
+                record: &[],
+            };
+            let mut peak: f64 = 0.0;
+            let observe = |s: &mut InProcess<Abdomen>, _| {
+                let u =
+                    s.0.field()
+                        .map_or(0.0, |f| f.2.iter().fold(0.0f64, |a, b| a.max(b.abs())));
+                peak = peak.max(u);
+                Ok(())
+            };
+            let outcome = match simulate_observed(
+                &mut InProcess(Box::new(Abdomen::new())),
+                &schedule,
+                observe,
+            ) {
+                Ok(_) => format!("bounded (peak |u| {peak:.3e} mm)"),
+                Err(e) => format!(
                     "refused: {}",
-                    e.to_string().split(';').next().unwrap_or_default()
-                )
-            });
+                    e.root_cause()
+                        .to_string()
+                        .split(';')
+                        .next()
+                        .unwrap_or_default()
+                ),
+            };
             out.push(Stability {
                 case,
                 integrator,
@@ -177,7 +191,7 @@ pub fn stability() -> Vec<Stability> {
     out
 }
 
-/// Writes the cases as CSV to `path` (atomically, [`crate::report::write_atomic`]).
+/// Writes the cases as CSV to `path` (atomically, [`crate::atomic::write_atomic`]).
 pub fn write_csv(cases: &[Case], path: &Path) -> Result<PathBuf> {
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
@@ -201,7 +215,7 @@ pub fn write_csv(cases: &[Case], path: &Path) -> Result<PathBuf> {
             format!("{:.4e}", c.error),
         ])?;
     }
-    crate::report::write_atomic(path, &w.into_inner()?)?;
+    crate::atomic::write_atomic(path, &w.into_inner()?)?;
     Ok(path.to_path_buf())
 }
 
@@ -243,7 +257,8 @@ mod tests {
         let path = write_csv(&cases, &dir.join("speed_error.csv")).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         assert_eq!(text.lines().count(), 5);
-        assert!(!dir.join("speed_error.csv.partial").exists());
+        let files = std::fs::read_dir(&dir).unwrap().count();
+        assert_eq!(files, 1, "no temporary file is left beside the CSV");
         std::fs::remove_dir_all(dir).unwrap();
     }
 

@@ -1,18 +1,13 @@
-//! Fields: the abdomen's stress map with displacement arrows under the static pressing force
-//! (seed 003 Fig. 5.8/5.9), and both scenes' fields as VTU files for ParaView.
-
 use anyhow::{Context, Result};
-use harness::fields;
-use harness::plot::{self, MeshMap};
-use harness::report::Report;
 use models::element::Elastic;
-use models::scene::abdomen::Abdomen;
-use models::scene::cutblock::CutBlock;
-use models::scene::Scene;
 use models::stress;
 
+use super::plot::{self, MeshMap};
+use super::{vtu, Report};
+use crate::studies::fields::{abdomen_pressed, cutblock_pulled};
+
 /// Adds the section to `report`.
-pub fn run(report: &mut Report) -> Result<()> {
+pub fn section(report: &mut Report) -> Result<()> {
     report.heading("Fields");
     abdomen(report)?;
     cutblock(report)
@@ -21,9 +16,7 @@ pub fn run(report: &mut Report) -> Result<()> {
 /// The abdomen under the default static press: stress map with arrows, and its VTU file.
 fn abdomen(report: &mut Report) -> Result<()> {
     let press = 0.8;
-    let mut a = Abdomen::new();
-    a.initialize()?;
-    let u = a.static_displacement(press)?;
+    let (a, u) = abdomen_pressed(press)?;
     let (mesh, props, _) = a.field().context("the abdomen is initialized")?;
     let von_mises: Vec<f64> = stress::triangle_stresses(mesh, props, &u)
         .iter()
@@ -57,7 +50,7 @@ fn abdomen(report: &mut Report) -> Result<()> {
         ),
         "abdomen_stress",
     );
-    fields::abdomen(&report.path("abdomen.vtu"), mesh, props, &u)?;
+    vtu::abdomen(&report.path("abdomen.vtu"), mesh, props, &u)?;
     report.file(
         "abdomen field for ParaView (displacement, stress, tissue)",
         "abdomen.vtu",
@@ -67,14 +60,10 @@ fn abdomen(report: &mut Report) -> Result<()> {
 
 /// The default cut block, fully cut and pulled 10 mm, as a VTU file.
 fn cutblock(report: &mut Report) -> Result<()> {
-    let mut c = CutBlock::new();
-    c.initialize()?;
-    c.set("scalpel_x", 100.0)?;
-    c.set("pull", 10.0)?;
-    c.do_step(0.0, 1.0)?;
+    let mut c = cutblock_pulled(10.0)?;
     let material = Elastic::new("cutblock", c.get("E")?, c.get("nu")?)?;
     let (mesh, u) = c.field().context("the cut block is initialized")?;
-    fields::cutblock(&report.path("cutblock.vtu"), mesh, &material, u)?;
+    vtu::cutblock(&report.path("cutblock.vtu"), mesh, &material, u)?;
     report.file(
         "cut block, full cut, 10 mm pull, for ParaView (displacement, von Mises)",
         "cutblock.vtu",

@@ -15,9 +15,11 @@ use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::backend::{simulate, Backend, Series};
-use crate::experiment::{Experiment, InputTable, Value};
-use crate::report::write_atomic;
+use super::backend::Backend;
+use super::design::Design;
+use super::experiment::Experiment;
+use super::simulate::{simulate, InputTable, Series, Value};
+use crate::atomic::write_atomic;
 
 /// How one case ended.
 #[derive(Debug, Clone, PartialEq)]
@@ -35,7 +37,7 @@ pub enum Outcome {
 pub struct CaseResult {
     pub id: usize,
     pub block: usize,
-    pub design: crate::design::Design,
+    pub design: Design,
     pub values: BTreeMap<String, Value>,
     pub outcome: Outcome,
 }
@@ -156,7 +158,7 @@ fn progress(n: usize) -> ProgressBar {
 /// Runs every case not yet finished in `dir`, then writes `summary.csv`.
 pub fn run(e: &Experiment, dir: &Path) -> Result<Sweep> {
     let start = Instant::now();
-    let backend = Backend::new(e)?;
+    let backend = Backend::new(e.backend, &e.scene, e.fmu.as_deref())?;
     let settings = prepare(e, dir)?;
     let pending: Vec<usize> = e
         .cases
@@ -195,7 +197,8 @@ fn run_case(backend: &Backend, e: &Experiment, settings: &[(String, Value)]) -> 
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         backend
             .open()
-            .and_then(|mut s| simulate(s.as_mut(), e, settings))
+            .and_then(|mut s| simulate(s.as_mut(), &e.schedule(settings)))
+            .map(|run| run.series)
     }))
     .unwrap_or_else(|panic| {
         let what = panic

@@ -12,7 +12,7 @@ use anyhow::{anyhow, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::report::temporary;
+use crate::atomic::temporary;
 
 fn register_font() {
     static ONCE: Once = Once::new();

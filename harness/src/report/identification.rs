@@ -5,12 +5,16 @@
 
 use std::path::Path;
 
+use std::path::PathBuf;
+
 use anyhow::Result;
-use harness::identify::{identify, response, Fit, Measurements, Response};
-use harness::plot::{self, Axis, Chart, Curve, Mark};
-use harness::profiles::align;
-use harness::report::Report;
 use models::scene::cutblock::PROFILE_STEP;
+
+use super::plot::{self, Axis, Chart, Curve, Mark};
+use super::Report;
+use crate::studies::identify::{identify, response, Fit, Measurements, Response};
+use crate::studies::profiles::align;
+use crate::sweep::experiment::shipped_dir;
 
 /// What to fit: a measurement set (forces and profiles) or a force–displacement CSV alone.
 pub enum Data<'a> {
@@ -18,8 +22,32 @@ pub enum Data<'a> {
     Forces(&'a Path),
 }
 
+/// The shipped measurement sets (`experiments/data/cutblock`).
+pub fn shipped_data() -> PathBuf {
+    shipped_dir().join("data/cutblock")
+}
+
+/// The `identify` command: a report in `out` on a measurement set in `data` (the shipped
+/// sets by default) or on a force–displacement CSV alone.
+pub fn command(
+    data: Option<PathBuf>,
+    set: &str,
+    forces: Option<PathBuf>,
+    nu: Option<f64>,
+    out: &std::path::Path,
+) -> Result<PathBuf> {
+    let mut report = Report::create(out, "Material identification")?;
+    let dir = data.unwrap_or_else(shipped_data);
+    let what = match &forces {
+        Some(path) => Data::Forces(path),
+        None => Data::Set { dir: &dir, set },
+    };
+    section(&mut report, what, nu)?;
+    report.finish()
+}
+
 /// Adds the section to `report`; `fixed_nu` skips the ν fit.
-pub fn run(report: &mut Report, data: Data, fixed_nu: Option<f64>) -> Result<()> {
+pub fn section(report: &mut Report, data: Data, fixed_nu: Option<f64>) -> Result<()> {
     let (m, name) = match data {
         Data::Set { dir, set } => (
             Measurements::load(dir, set)?,

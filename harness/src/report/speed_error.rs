@@ -2,12 +2,13 @@
 //! stability table on the hard cases.
 
 use anyhow::Result;
-use harness::plot::{self, Axis, Chart, Curve, Mark};
-use harness::report::Report;
-use harness::speed_error::{measure, pareto, stability, write_csv, Case, Study};
+
+use super::plot::{self, Axis, Chart, Curve, Mark};
+use super::Report;
+use crate::studies::speed_error::{measure, pareto, stability, write_csv, Case, Study};
 
 /// Adds the section to `report`.
-pub fn run(report: &mut Report) -> Result<()> {
+pub fn section(report: &mut Report) -> Result<()> {
     let study = Study::default();
     report.heading("Speed versus error, abdomen");
     report.text(&format!(

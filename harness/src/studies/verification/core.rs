@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 use anyhow::Result;
 use models::assembly::{plane, solid};
 use models::element::Elastic;
-use models::solve::{Damping, IntegratorKind, Layout, Statics};
+use models::solve::{Damping, Factorization, IntegratorKind, Statics};
 use models::verify::{lame::Lame, oscillator, problems};
 
 /// Prints the three tables.
@@ -121,7 +121,7 @@ fn timings(out: &mut String) -> Result<()> {
             alpha: 1.0,
             beta: 1e-4,
         },
-        Layout::Simplicial,
+        Factorization::Simplicial,
     )?;
     row(
         out,
@@ -173,7 +173,7 @@ fn timings(out: &mut String) -> Result<()> {
             solid::stiffness(&b.mesh, &ba.asm, &b.material, &mut k)
         }),
     )?;
-    let mut statics = Statics::new(&ba.asm, &b.fixed, Layout::Supernodal)?;
+    let mut statics = Statics::new(&ba.asm, &b.fixed, Factorization::Supernodal)?;
     row(
         out,
         "numeric factorization (supernodal)",

@@ -17,13 +17,15 @@
 
 use std::path::Path;
 
+use std::collections::BTreeMap;
+
 use anyhow::{bail, Context, Result};
 use argmin::core::{CostFunction, Error as ArgminError, Executor};
 use argmin::solver::brent::BrentOpt;
-use models::scene::cutblock::{CutBlock, PROFILE_LINES, PROFILE_STATIONS};
+use models::scene::cutblock::{CutBlock, PROFILE_LINES};
 
-use crate::profiles::{deviation, Deviation};
-use models::scene::Scene;
+use super::profiles::{deviation, Deviation};
+use crate::sweep::{simulate, InProcess, InputTable, Schedule, Value};
 
 /// A measurement set: force–displacement points and the top profiles at the largest pull.
 #[derive(Debug, Clone, PartialEq)]
@@ -87,27 +89,40 @@ pub struct Response {
     pub profiles: [Vec<f64>; 3],
 }
 
-/// Runs the default cut block (full-width cut) with E = 1 and Poisson's ratio `nu`.
+/// Runs the default cut block (full-width cut) with E = 1 and Poisson's ratio `nu`: pulled
+/// 1 mm over the first second, `pull` over the second.
 pub fn response(nu: f64, pull: f64) -> Result<Response> {
-    let mut s = CutBlock::new();
-    s.set("E", 1.0)?;
-    s.set("nu", nu)?;
-    s.initialize()?;
-    s.set("scalpel_x", 100.0)?;
-    s.set("pull", 1.0)?;
-    s.do_step(0.0, 1.0)?;
-    let force_per_e_mm = s.get("reaction_force")?;
-    s.set("pull", pull)?;
-    s.do_step(1.0, 1.0)?;
-    let mut profiles: [Vec<f64>; 3] = Default::default();
-    for (k, x) in PROFILE_LINES.iter().enumerate() {
-        let vr = s.lookup(&format!("profile_x{x:.0}"))?;
-        profiles[k] = vec![0.0; PROFILE_STATIONS];
-        s.get_real(vr, &mut profiles[k])?;
-    }
+    let settings = [
+        ("E".to_string(), Value::Real(1.0)),
+        ("nu".to_string(), Value::Real(nu)),
+    ];
+    let inputs = BTreeMap::from([
+        ("scalpel_x".to_string(), InputTable::constant(100.0)),
+        (
+            "pull".to_string(),
+            InputTable {
+                time: vec![0.0, 1.0],
+                value: vec![1.0, pull],
+            },
+        ),
+    ]);
+    let profiles = PROFILE_LINES.map(|x| format!("profile_x{x:.0}"));
+    let mut record = vec!["reaction_force".to_string()];
+    record.extend(profiles.iter().cloned());
+    let schedule = Schedule {
+        stop_time: 2.0,
+        step: 1.0,
+        settings: &settings,
+        inputs: &inputs,
+        record: &record,
+    };
+    let series = simulate(&mut InProcess(Box::new(CutBlock::new())), &schedule)?.series;
+    let force = series.column("reaction_force").context("recorded")?;
+    let profile = |name: &String| series.array(name, 2).context("recorded");
+    let [a, b, c] = profiles.each_ref().map(profile);
     Ok(Response {
-        force_per_e_mm,
-        profiles,
+        force_per_e_mm: force[1],
+        profiles: [a?, b?, c?],
     })
 }
 

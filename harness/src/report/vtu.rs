@@ -19,7 +19,7 @@ use vtkio::model::{
     VertexNumbers, Vtk,
 };
 
-use crate::report::temporary;
+use crate::atomic::temporary;
 
 /// Cells given as vertex lists with their VTK type.
 struct Grid {

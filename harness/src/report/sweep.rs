@@ -1,33 +1,76 @@
-//! The sweep command's report: runs (or resumes) the sweep in its folder, then writes the
-//! case table, the peak of the experiment's metric against each varied parameter (with the
-//! correlation over the cases that vary it) and the metric's time histories.
+//! The sweep section: runs (or resumes) the sweep in its folder, then writes the case table,
+//! the peak of the experiment's metric against each varied parameter (with the correlation
+//! over the cases that vary it) and the metric's time histories; the `sweep` command and the
+//! shipped sweeps of the default report.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
-use harness::backend::Series;
-use harness::design::Design;
-use harness::experiment::{Experiment, Value, ANATOMY};
-use harness::plot::{self, Axis, Chart, Curve, Mark};
-use harness::report::Report;
-use harness::sweep::{self, CaseResult, Outcome};
 
-/// The unit of a parameter or output, from the scene's table (anatomy: mm or degrees).
+use super::plot::{self, Axis, Chart, Curve, Mark};
+use super::Report;
+use crate::sweep::experiment::shipped_dir;
+use crate::sweep::{runner, CaseResult, Design, Experiment, Outcome, Series, Value};
+
+/// The unit of a parameter or output, from the scene's table or its generator parameters.
 fn unit(e: &Experiment, name: &str) -> String {
-    if let Some(field) = name.strip_prefix(ANATOMY) {
-        return if field == "pelvic_tilt" { "°" } else { "mm" }.into();
-    }
-    models::scene::create(&e.scene)
-        .ok()
-        .and_then(|s| {
-            s.variables()
-                .iter()
-                .find(|v| v.name == name)
-                .map(|v| v.unit)
-        })
+    let Ok(scene) = models::scene::create(&e.scene) else {
+        return "-".into();
+    };
+    let table = scene
+        .variables()
+        .iter()
+        .find(|v| v.name == name)
+        .map(|v| v.unit);
+    let generators = scene.generator_parameters();
+    table
+        .or_else(|| generators.iter().find(|g| g.name == name).map(|g| g.unit))
         .filter(|u| !u.is_empty() && *u != "1")
         .unwrap_or("-")
         .into()
+}
+
+/// The `sweep` command: runs (or resumes) an experiment's sweep into `out` (default
+/// `report/<name>`), or with `plan_only` only writes its plan; returns the path written.
+pub fn command(
+    path: &Path,
+    out: Option<PathBuf>,
+    jobs: Option<usize>,
+    plan_only: bool,
+) -> Result<PathBuf> {
+    let mut e = Experiment::load(path)?;
+    if let Some(j) = jobs {
+        e.jobs = j;
+    }
+    let dir = out.unwrap_or_else(|| Path::new("report").join(&e.name));
+    if plan_only {
+        runner::prepare(&e, &dir)?;
+        return Ok(dir.join("plan.json"));
+    }
+    Ok(sweep(&e, &dir)?.0)
+}
+
+/// Runs a shipped sweep (`experiments/<name>.toml`) into a subfolder of `report` and
+/// summarizes it there, with the plots of the parameters in `shown` inline.
+pub fn shipped(report: &mut Report, name: &str, shown: &[&str]) -> Result<()> {
+    let e = Experiment::load(&shipped_dir().join(format!("{name}.toml")))?;
+    report.heading(&format!("Sweep `{name}` ({} cases)", e.cases.len()));
+    report.text(&e.description);
+    let (_, correlations) = sweep(&e, &report.path(name))?;
+    report.text(&format!(
+        "Full sweep report: [{name}/report.md]({name}/report.md)."
+    ));
+    for parameter in shown {
+        report.figure(
+            &format!("Peak {} against {parameter}", e.metric),
+            &format!("{name}/{}", plot_stem(parameter)),
+        );
+    }
+    report.table(
+        &["parameter", "cases of", "cases", "Pearson r with the peak"],
+        &correlations,
+    );
+    Ok(())
 }
 
 /// The file stem of the plot of the metric against a parameter.
@@ -53,12 +96,12 @@ fn correlation(p: &[(f64, f64)]) -> f64 {
 
 /// Runs the sweep into `dir` and writes its report there; returns the report's path and one
 /// line per parameter (its correlation with the metric) for an enclosing report.
-pub fn run(e: &Experiment, dir: &Path) -> Result<(PathBuf, Vec<Vec<String>>)> {
+pub fn sweep(e: &Experiment, dir: &Path) -> Result<(PathBuf, Vec<Vec<String>>)> {
     let mut report = Report::create(dir, &format!("Sweep `{}`", e.name))?;
     if !e.description.is_empty() {
         report.text(&e.description);
     }
-    let s = sweep::run(e, dir)?;
+    let s = runner::run(e, dir)?;
     let failed = s
         .results
         .iter()

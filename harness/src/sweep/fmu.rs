@@ -14,8 +14,7 @@ use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation as _, Common as _, InstanceCS};
 use fmi::traits::FmiImport as _;
 
-use crate::backend::Session;
-use crate::experiment::Value;
+use super::simulate::{Reference, Session, Value};
 
 thread_local! {
     static LAST_ERROR: RefCell<Option<String>> = const { RefCell::new(None) };
@@ -109,24 +108,32 @@ pub struct FmuSession<'a> {
 }
 
 impl Session for FmuSession<'_> {
-    fn reference(&self, name: &str) -> Result<u32> {
-        self.backend
-            .variables
-            .get(name)
-            .copied()
-            .with_context(|| format!("the FMU has no variable named `{name}`"))
+    /// A scalar by its name; an array `name` as FMI 2 gives it, the scalars `name[0]`,
+    /// `name[1]`, … with consecutive value references.
+    fn reference(&self, name: &str) -> Result<Reference> {
+        let vars = &self.backend.variables;
+        if let Some(&vr) = vars.get(name) {
+            return Ok(Reference { vr, len: 1 });
+        }
+        let element = |i: usize| vars.get(&format!("{name}[{i}]")).copied();
+        let vr = element(0).with_context(|| format!("the FMU has no variable named `{name}`"))?;
+        let len = (0..).take_while(|&i| element(i).is_some()).count();
+        if (0..len).any(|i| element(i) != Some(vr + i as u32)) {
+            bail!("the elements of `{name}` do not have consecutive value references");
+        }
+        Ok(Reference { vr, len })
     }
 
-    fn set(&mut self, vr: u32, value: &Value) -> Result<()> {
+    fn set(&mut self, r: Reference, value: &Value) -> Result<()> {
         match value {
             Value::Real(x) => self
                 .instance
-                .set_real(&[vr], &[*x])
+                .set_real(&[r.vr], &[*x])
                 .map(drop)
                 .map_err(|e| failure("fmi2SetReal", e)),
             Value::Text(s) => self
                 .instance
-                .set_string(&[vr], &[CString::new(s.as_str())?])
+                .set_string(&[r.vr], &[CString::new(s.as_str())?])
                 .map_err(|e| failure("fmi2SetString", e)),
         }
     }
@@ -151,11 +158,17 @@ impl Session for FmuSession<'_> {
         Ok(())
     }
 
-    fn get(&mut self, vr: u32) -> Result<f64> {
-        let mut x = [0.0];
+    fn get(&mut self, r: Reference, out: &mut [f64]) -> Result<()> {
+        let array: Vec<u32>;
+        let vrs = if r.len == 1 {
+            std::slice::from_ref(&r.vr)
+        } else {
+            array = (r.vr..r.vr + r.len as u32).collect();
+            &array
+        };
         self.instance
-            .get_real(&[vr], &mut x)
+            .get_real(vrs, out)
             .map_err(|e| failure("fmi2GetReal", e))?;
-        Ok(x[0])
+        Ok(())
     }
 }

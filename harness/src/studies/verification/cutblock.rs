@@ -1,6 +1,7 @@
-//! The cut-block report: the seed-002 comparison, refinement, ν → 0.5, cut strategies and
+//! The cut block against seed 002: the comparison, refinement, ν → 0.5, cut strategies and
 //! step timings.
 
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::time::Instant;
 
@@ -8,32 +9,43 @@ use anyhow::Result;
 use models::scene::cutblock::CutBlock;
 use models::scene::Scene;
 
-/// A solved default scene with `settings` applied before initialization and `inputs` for
-/// one step.
-fn solved(
+use crate::sweep::{simulate, InProcess, InputTable, Schedule, Value};
+
+/// The default cut block with `settings` and `strings` applied before initialization,
+/// solved for one step of constant `inputs`.
+pub fn solved(
     settings: &[(&str, f64)],
     strings: &[(&str, &str)],
     inputs: &[(&str, f64)],
 ) -> Result<CutBlock> {
-    let mut s = CutBlock::new();
-    for (name, v) in settings {
-        s.set(name, *v)?;
-    }
-    for (name, v) in strings {
-        let vr = s.lookup(name)?;
-        s.set_string(vr, v)?;
-    }
-    s.initialize()?;
-    for (name, v) in inputs {
-        s.set(name, *v)?;
-    }
-    s.do_step(0.0, 1.0)?;
-    Ok(s)
+    let mut all: Vec<(String, Value)> = settings
+        .iter()
+        .map(|&(k, v)| (k.to_string(), Value::Real(v)))
+        .collect();
+    all.extend(
+        strings
+            .iter()
+            .map(|&(k, v)| (k.to_string(), Value::Text(v.to_string()))),
+    );
+    let inputs: BTreeMap<String, InputTable> = inputs
+        .iter()
+        .map(|&(k, v)| (k.to_string(), InputTable::constant(v)))
+        .collect();
+    let schedule = Schedule {
+        stop_time: 1.0,
+        step: 1.0,
+        settings: &all,
+        inputs: &inputs,
+        record: &[],
+    };
+    let mut s = InProcess(Box::new(CutBlock::new()));
+    simulate(&mut s, &schedule)?;
+    Ok(*s.0)
 }
 
 const CUT_AND_PULL: [(&str, f64); 2] = [("pull", 10.0), ("scalpel_x", 100.0)];
 
-/// Prints the report.
+/// Writes the section's tables to `out`.
 pub fn run(out: &mut String) -> Result<()> {
     writeln!(
         out,"4. Cut block (seed 002): 100 × 80 × 17 mm, 6 × 16 × 14 cubes × 5 tetrahedra, cut at y = 45 mm,")?;

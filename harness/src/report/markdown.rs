@@ -1,30 +1,13 @@
 //! Report folders: every command writes CSVs, plots and a short Markdown report that links
-//! them into one folder, and prints where. Files are written atomically (a temporary file in
-//! the same folder, then a rename), so a failed or interrupted run never leaves a corrupt or
-//! half-written result.
+//! them into one folder, and prints where. Every file goes through [`crate::atomic`], so a
+//! failed or interrupted run never leaves a corrupt or half-written result.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 
-/// Writes `bytes` to `path` through a temporary file and a rename.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let tmp = temporary(path);
-    std::fs::write(&tmp, bytes).with_context(|| format!("cannot write {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))
-}
-
-/// A temporary name next to `path` that keeps its extension (plot backends pick the format
-/// from it): `a/b.png` → `a/.b.tmp.png`.
-pub fn temporary(path: &Path) -> PathBuf {
-    let name = path.file_name().unwrap_or_default().to_string_lossy();
-    let tmp = match name.rsplit_once('.') {
-        Some((stem, ext)) => format!(".{stem}.tmp.{ext}"),
-        None => format!(".{name}.tmp"),
-    };
-    path.with_file_name(tmp)
-}
+use crate::atomic::write_atomic;
 
 /// A report being written: a folder and the Markdown text of `report.md`. Text added to it
 /// is echoed to standard output as well, so long commands show where they are.
@@ -87,7 +70,7 @@ impl Report {
         self.markdown += "\n";
     }
 
-    /// A plot written by [`crate::plot`] as `<stem>.png` and `<stem>.svg`.
+    /// A plot written by [`super::plot`] as `<stem>.png` and `<stem>.svg`.
     pub fn figure(&mut self, caption: &str, stem: &str) {
         println!("figure: {}", self.path(&format!("{stem}.png")).display());
         self.markdown +=
@@ -105,22 +88,5 @@ impl Report {
         let path = self.dir.join("report.md");
         write_atomic(&path, self.markdown.as_bytes())?;
         Ok(path)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn atomic_writes_leave_no_temporary_file() {
-        let dir = tempfile::tempdir().unwrap();
-        let p = dir.path().join("a.csv");
-        write_atomic(&p, b"x\n").unwrap();
-        write_atomic(&p, b"y\n").unwrap();
-        assert_eq!(std::fs::read(&p).unwrap(), b"y\n");
-        let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
-        assert_eq!(names.len(), 1);
-        assert_eq!(temporary(Path::new("r/p.png")), Path::new("r/.p.tmp.png"));
     }
 }

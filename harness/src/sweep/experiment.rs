@@ -32,95 +32,29 @@
 //! ranges = { "anatomy.outlet" = { min = 95.0, max = 135.0 }, wall_E = { min = 0.01, max = 0.1, log = true } }
 //! ```
 //!
-//! Inputs are sampled at the start of each communication step and held over it, as FMI
-//! importers do: the outputs at t + step respond to the inputs at t.
+//! Inputs follow the simulation loop's rule ([`super::simulate()`]): sampled at the start of
+//! each communication step and held over it, as FMI importers do.
 //!
-//! Parameter names are the scene's parameters and inputs, plus, for the abdomen,
-//! `anatomy.<field>` for the fields of the outline generator
-//! ([`models::scene::abdomen::anatomy::Anatomy`]): a case that sets any of them gets a
-//! configuration file generated from the default anatomy with those fields changed.
+//! Parameter names are the scene's parameters and inputs, plus the scene's generator
+//! parameters ([`models::scene::Scene::generator_parameters`]; for the abdomen
+//! `anatomy.<field>`, the fields of its outline generator): a case that sets any of them gets
+//! a configuration file the scene generates from its defaults with those values changed.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, ensure, Context, Result};
-use models::scene::abdomen::anatomy::Anatomy;
-use models::scene::{self, Causality, Variable, VariableKind};
-use serde::{Deserialize, Serialize};
+use models::scene::{self, Causality, Scene, Variable, VariableKind};
+use serde::Deserialize;
 
-use crate::design::{self, Block};
+use super::backend::BackendKind;
+use super::design::{self, Block, Case};
+use super::simulate::{check_times, InputTable, Schedule, Value};
 
-/// A parameter value: a number or a text.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(untagged)]
-pub enum Value {
-    Real(f64),
-    Text(String),
-}
-
-impl std::fmt::Display for Value {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Value::Real(x) => write!(f, "{x}"),
-            Value::Text(s) => f.write_str(s),
-        }
-    }
-}
-
-/// Where a case runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum BackendKind {
-    /// The scene linked into the harness.
-    #[default]
-    InProcess,
-    /// The packaged FMU, loaded through the `fmi` crate (FMI 2 co-simulation).
-    Fmu,
-}
-
-/// An input given as a piecewise-linear function of time, held constant beyond its ends.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct InputTable {
-    pub time: Vec<f64>,
-    pub value: Vec<f64>,
-}
-
-impl InputTable {
-    /// The value at time `t` (linear interpolation; constant extrapolation).
-    pub fn at(&self, t: f64) -> f64 {
-        let k = self.time.partition_point(|&s| s <= t);
-        if k == 0 {
-            return self.value[0];
-        }
-        if k == self.time.len() {
-            return self.value[k - 1];
-        }
-        let (t0, t1) = (self.time[k - 1], self.time[k]);
-        let w = (t - t0) / (t1 - t0);
-        self.value[k - 1] + w * (self.value[k] - self.value[k - 1])
-    }
-
-    fn check(&self, key: &str) -> Result<()> {
-        ensure!(
-            !self.time.is_empty() && self.time.len() == self.value.len(),
-            "`{key}`: `time` and `value` must be non-empty and of equal length (got {} and {})",
-            self.time.len(),
-            self.value.len()
-        );
-        for w in self.time.windows(2) {
-            ensure!(
-                w[1] > w[0],
-                "`{key}.time` must increase strictly: {} is followed by {}",
-                w[0],
-                w[1]
-            );
-        }
-        if let Some(x) = self.time.iter().chain(&self.value).find(|x| !x.is_finite()) {
-            bail!("`{key}` holds the non-finite value {x}");
-        }
-        Ok(())
-    }
+/// The shipped experiments and data, in the repository this harness was built from.
+pub fn shipped_dir() -> PathBuf {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../experiments");
+    dir.canonicalize().unwrap_or(dir)
 }
 
 /// The file as written, before checking.
@@ -171,19 +105,6 @@ pub struct Experiment {
     pub source: String,
 }
 
-/// One case of the plan: the values it varies (applied over the base parameters).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Case {
-    pub id: usize,
-    /// The `[[sweep]]` block it comes from and that block's design.
-    pub block: usize,
-    pub design: crate::design::Design,
-    pub values: BTreeMap<String, Value>,
-}
-
-/// Prefix of the abdomen's anatomy parameters.
-pub const ANATOMY: &str = "anatomy.";
-
 impl Experiment {
     /// Reads and checks an experiment file; relative paths in it are relative to its folder.
     pub fn load(path: &Path) -> Result<Self> {
@@ -201,7 +122,7 @@ impl Experiment {
         check_times(file.stop_time, file.step)?;
         let metric = check_record(table, &file.record, file.metric.as_deref())?;
         for (name, value) in &file.parameters {
-            check_value(&file.scene, table, name, value)
+            check_value(scene.as_ref(), name, value)
                 .with_context(|| format!("`parameters.{name}`"))?;
         }
         for (name, input) in &file.inputs {
@@ -210,10 +131,10 @@ impl Experiment {
         let cases = design::expand(&file.sweep)?;
         for case in &cases {
             for (name, value) in &case.values {
-                check_value(&file.scene, table, name, value)
+                check_value(scene.as_ref(), name, value)
                     .with_context(|| format!("`sweep` case {}: parameter `{name}`", case.id))?;
             }
-            check_anatomy_conflict(&file.parameters, &case.values)
+            check_generator_conflict(scene.as_ref(), &file.parameters, &case.values)
                 .with_context(|| format!("`sweep` case {}", case.id))?;
         }
         let fmu = check_backend(file.backend, file.fmu, base)?;
@@ -235,9 +156,15 @@ impl Experiment {
         })
     }
 
-    /// Number of communication steps.
-    pub fn steps(&self) -> usize {
-        (self.stop_time / self.step).round() as usize
+    /// What a case with `settings` runs: this experiment's times, inputs and outputs.
+    pub fn schedule<'a>(&'a self, settings: &'a [(String, Value)]) -> Schedule<'a> {
+        Schedule {
+            stop_time: self.stop_time,
+            step: self.step,
+            settings,
+            inputs: &self.inputs,
+            record: &self.record,
+        }
     }
 
     /// The names every case varies, in plan order.
@@ -254,36 +181,37 @@ impl Experiment {
     }
 
     /// The settings of a case: base parameters overridden by the case's values, with any
-    /// `anatomy.*` values turned into a configuration file in `configs` — returned as its
-    /// path and TOML text for the caller to write.
+    /// generator parameters (`anatomy.*`) turned into a configuration file in `configs` —
+    /// returned as its path and text for the caller to write.
     pub fn settings(&self, case: &Case, configs: &Path) -> Result<Settings> {
+        let scene = scene::create(&self.scene)?;
+        let generated: Vec<String> = scene
+            .generator_parameters()
+            .into_iter()
+            .map(|g| g.name)
+            .collect();
         let mut merged = self.parameters.clone();
         merged.extend(case.values.clone());
-        let mut anatomy = Anatomy::default();
-        let mut generated = false;
+        let mut fields = Vec::new();
         let mut settings = Settings::default();
-        for (name, value) in merged {
-            match (name.strip_prefix(ANATOMY), &value) {
-                (Some(field), Value::Real(x)) => {
-                    set_anatomy(&mut anatomy, field, *x)?;
-                    generated = true;
-                }
-                _ => settings.values.push((name, value)),
+        for (name, value) in &merged {
+            match value {
+                Value::Real(x) if generated.contains(name) => fields.push((name.as_str(), *x)),
+                _ => settings.values.push((name.clone(), value.clone())),
             }
         }
-        if generated {
-            let config = models::scene::abdomen::config::PelvisConfig {
-                name: format!("case_{:04}", case.id),
-                description: format!("generated by the harness for case {}", case.id),
-                control_points: None,
-                anatomy: Some(anatomy),
-            };
+        if !fields.is_empty() {
+            let config = scene.generate_configuration(
+                &format!("case_{:04}", case.id),
+                &format!("generated by the harness for case {}", case.id),
+                &fields,
+            )?;
             let path = std::path::absolute(configs.join(format!("case_{:04}.toml", case.id)))?;
             settings.values.push((
-                "configuration".into(),
+                config.parameter.into(),
                 Value::Text(path.display().to_string()),
             ));
-            settings.config = Some((path, toml::to_string(&config)?));
+            settings.config = Some((path, config.text));
         }
         Ok(settings)
     }
@@ -294,24 +222,6 @@ impl Experiment {
 pub struct Settings {
     pub values: Vec<(String, Value)>,
     pub config: Option<(PathBuf, String)>,
-}
-
-/// Stop time and communication step: positive, and a whole number of steps.
-fn check_times(stop_time: f64, step: f64) -> Result<()> {
-    ensure!(
-        stop_time.is_finite() && stop_time > 0.0,
-        "`stop_time` = {stop_time} must be positive"
-    );
-    ensure!(
-        step.is_finite() && step > 0.0 && step <= stop_time,
-        "`step` = {step} must be positive and at most `stop_time` = {stop_time}"
-    );
-    let steps = stop_time / step;
-    ensure!(
-        (steps - steps.round()).abs() < 1e-9 * steps,
-        "`stop_time` = {stop_time} is not a whole number of `step` = {step}"
-    );
-    Ok(())
 }
 
 /// The recorded outputs exist and are scalar; returns the metric (default: the first).
@@ -395,19 +305,25 @@ fn check_range(v: &Variable, x: f64) -> Result<()> {
     Ok(())
 }
 
-/// Checks a parameter value against the scene's table (or the anatomy generator).
-fn check_value(scene: &str, table: &[Variable], name: &str, value: &Value) -> Result<()> {
-    if let Some(field) = name.strip_prefix(ANATOMY) {
-        ensure!(
-            scene == "abdomen",
-            "`{name}`: anatomy parameters exist for the abdomen scene only"
-        );
+/// Checks a parameter value against the scene's table or its generator parameters.
+fn check_value(scene: &dyn Scene, name: &str, value: &Value) -> Result<()> {
+    let table = scene.variables();
+    if !table.iter().any(|v| v.name == name) {
+        let generators = scene.generator_parameters();
+        if !generators.iter().any(|g| g.name == name) {
+            let names: Vec<String> = generators.into_iter().map(|g| g.name).collect();
+            if names.is_empty() {
+                bail!("no variable named `{name}`");
+            }
+            bail!(
+                "no variable named `{name}`, nor a generator parameter ({})",
+                names.join(", ")
+            );
+        }
         let Value::Real(x) = value else {
             bail!("`{name}` = \"{value}\" must be a number");
         };
-        let mut a = Anatomy::default();
-        set_anatomy(&mut a, field, *x)?;
-        a.control_points()?;
+        scene.generate_configuration("check", "", &[(name, *x)])?;
         return Ok(());
     }
     let v = find(table, name)?;
@@ -423,32 +339,25 @@ fn check_value(scene: &str, table: &[Variable], name: &str, value: &Value) -> Re
     }
 }
 
-/// A case may not both name a configuration and generate one from anatomy parameters.
-fn check_anatomy_conflict(
+/// A case may not both set a parameter and generate it from generator parameters (the
+/// abdomen: `configuration` and `anatomy.*`).
+fn check_generator_conflict(
+    scene: &dyn Scene,
     base: &BTreeMap<String, Value>,
     case: &BTreeMap<String, Value>,
 ) -> Result<()> {
     let names = || base.keys().chain(case.keys());
-    let anatomy = names().find(|n| n.starts_with(ANATOMY));
-    match (anatomy, names().any(|n| n == "configuration")) {
-        (Some(a), true) => {
-            bail!("sets both `configuration` and `{a}`; anatomy parameters generate the configuration")
-        }
-        _ => Ok(()),
+    let generators = scene.generator_parameters();
+    let Some(g) = names().find_map(|n| generators.iter().find(|g| g.name == *n)) else {
+        return Ok(());
+    };
+    let target = scene.generate_configuration("check", "", &[])?.parameter;
+    if names().any(|n| n == target) {
+        bail!(
+            "sets both `{target}` and `{}`; generator parameters generate the {target}",
+            g.name
+        );
     }
-}
-
-/// Sets one field of the anatomy by name, through its serde representation so that the
-/// field list stays the generator's.
-fn set_anatomy(anatomy: &mut Anatomy, field: &str, value: f64) -> Result<()> {
-    let mut table = toml::Table::try_from(*anatomy)?;
-    ensure!(
-        table.contains_key(field),
-        "`{ANATOMY}{field}`: the anatomy has no field `{field}` (fields: {})",
-        table.keys().cloned().collect::<Vec<_>>().join(", ")
-    );
-    table.insert(field.into(), toml::Value::Float(value));
-    *anatomy = table.try_into()?;
     Ok(())
 }
 
@@ -483,7 +392,7 @@ ranges = { "anatomy.outlet" = { min = 100.0, max = 130.0, levels = 3 } }
     fn a_good_file_expands_to_its_cases() {
         let e = Experiment::parse(GOOD, Path::new(".")).unwrap();
         assert_eq!(e.cases.len(), 5);
-        assert_eq!(e.steps(), 10);
+        assert_eq!(e.schedule(&[]).steps(), 10);
         assert_eq!(e.metric, "floor_stress_max");
         assert_eq!(e.varied(), ["configuration", "anatomy.outlet"]);
         let s = e.settings(&e.cases[3], Path::new("/runs/configs")).unwrap();
@@ -539,17 +448,5 @@ ranges = { "anatomy.outlet" = { min = 100.0, max = 130.0, levels = 3 } }
             let e = err(&text);
             assert!(e.contains(needle), "error `{e}` should name `{needle}`");
         }
-    }
-
-    #[test]
-    fn input_tables_interpolate_and_hold() {
-        let t = InputTable {
-            time: vec![0.0, 1.0, 3.0],
-            value: vec![0.0, 2.0, 4.0],
-        };
-        assert_eq!(t.at(-1.0), 0.0);
-        assert_eq!(t.at(0.5), 1.0);
-        assert_eq!(t.at(2.0), 3.0);
-        assert_eq!(t.at(5.0), 4.0);
     }
 }

@@ -16,7 +16,17 @@ use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use serde::{Deserialize, Serialize};
 
-use crate::experiment::{Case, Value};
+use super::simulate::Value;
+
+/// One case of the plan: the values it varies (applied over the base parameters).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Case {
+    pub id: usize,
+    /// The `[[sweep]]` block it comes from and that block's design.
+    pub block: usize,
+    pub design: Design,
+    pub values: BTreeMap<String, Value>,
+}
 
 /// The kind of a block.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]

@@ -1,0 +1,183 @@
+//! The abdomen's variable table (value references, names, units, start values, ranges,
+//! descriptions) — what `modelDescription.xml` is generated from. Sources of the defaults
+//! are in the scene's module documentation.
+
+use crate::scene::{Variability, Variable};
+
+/// Tissue names as used in variable names: the cavity (triangles) and the three membranes
+/// (line regions 0, 1, 2).
+pub const TISSUES: [&str; 4] = ["cavity", "diaphragm", "wall", "floor"];
+
+// Value references (indices into the table built by `table`).
+pub const CONFIGURATION: u32 = 0;
+pub const TARGET_TRIANGLES: u32 = 1;
+pub const WALL_SUPPORT: u32 = 2;
+pub const INTEGRATOR: u32 = 3;
+pub const MAX_STEP: u32 = 4;
+/// First of the 4 × 4 tissue parameters: E, ν or area, density, damping per tissue.
+pub const TISSUE_BASE: u32 = 5;
+pub const PRESS_AMPLITUDE: u32 = 21;
+pub const PRESS_FREQUENCY: u32 = 22;
+pub const PRESS_FORCE: u32 = 23;
+pub const FIRST_OUTPUT: u32 = 24;
+
+/// Value reference of field `field` (0 E, 1 ν or area, 2 density, 3 damping) of a tissue.
+pub fn tissue_vr(tissue: usize, field: u32) -> u32 {
+    TISSUE_BASE + 4 * tissue as u32 + field
+}
+
+/// The table, in value-reference order.
+pub fn table() -> Vec<Variable> {
+    use Variability::{Fixed, Tunable};
+    let mut t = vec![
+        Variable::string("configuration", "", "pelvis/spine configuration: empty = built-in default, a shipped name (normal, narrow, wide, lordotic, tilted) or a TOML file path"),
+        Variable::parameter("target_triangles", Fixed, "1", 6000.0, (50.0, 500_000.0), "mesh resolution: approximate number of triangles"),
+        Variable::string("abdominal_wall", "free", "`free` or `fixed` (seed 003: the wall can additionally be fixed)"),
+        Variable::string("integrator", "houbolt", "houbolt, newmark, central_difference or rk4"),
+        Variable::parameter("max_step", Fixed, "s", 1e-3, (1e-8, 10.0), "largest internal time step; a communication step is split into equal substeps"),
+    ];
+    let defaults = [(0.005, 0.45), (0.2, 4.0), (0.0225, 20.0), (0.1, 8.0)];
+    for (i, name) in TISSUES.iter().enumerate() {
+        let (e, second) = defaults[i];
+        t.push(Variable::parameter(
+            &format!("{name}_E"),
+            Tunable,
+            "MPa",
+            e,
+            (1e-9, 1e6),
+            &format!("Young's modulus of the {name}"),
+        ));
+        t.push(if i == 0 {
+            Variable::parameter(
+                "cavity_nu",
+                Tunable,
+                "1",
+                second,
+                (-0.99, 0.499_999),
+                "Poisson's ratio of the cavity contents",
+            )
+        } else {
+            Variable::parameter(
+                &format!("{name}_area"),
+                Fixed,
+                "mm2",
+                second,
+                (1e-6, 1e4),
+                &format!("cross-section of the {name} line elements per mm of depth"),
+            )
+        });
+        t.push(Variable::parameter(
+            &format!("{name}_density"),
+            Fixed,
+            "t/mm3",
+            1e-9,
+            (1e-15, 1e-6),
+            &format!("density of the {name}"),
+        ));
+        t.push(Variable::parameter(
+            &format!("{name}_damping"),
+            Fixed,
+            "1/s",
+            5.0,
+            (0.0, 1e6),
+            &format!("mass-proportional damping coefficient of the {name}"),
+        ));
+    }
+    t.extend([
+        Variable::input(
+            "press_amplitude",
+            "N/mm",
+            0.8,
+            (-1e3, 1e3),
+            "amplitude of the sinusoidal pressing force on the diaphragm, per mm depth",
+        ),
+        Variable::input(
+            "press_frequency",
+            "Hz",
+            0.5,
+            (0.0, 1e3),
+            "frequency of the sinusoidal pressing force",
+        ),
+        Variable::input(
+            "press_force",
+            "N/mm",
+            0.0,
+            (-1e3, 1e3),
+            "pressing force added to the sinusoid, supplied each step by the importer",
+        ),
+        Variable::output(
+            "floor_stress_mean",
+            "MPa",
+            1,
+            "length-weighted mean axial stress of the pelvic-floor line elements (tension > 0)",
+        ),
+        Variable::output(
+            "floor_stress_max",
+            "MPa",
+            1,
+            "largest axial stress of the pelvic-floor line elements",
+        ),
+        Variable::output(
+            "floor_triangles_vm_mean",
+            "MPa",
+            1,
+            "area-weighted mean von Mises stress of the triangles along the pelvic floor",
+        ),
+        Variable::output(
+            "floor_triangles_vm_max",
+            "MPa",
+            1,
+            "largest von Mises stress of the triangles along the pelvic floor",
+        ),
+        Variable::output(
+            "cavity_vm_mean",
+            "MPa",
+            1,
+            "area-weighted mean von Mises stress of all triangles",
+        ),
+        Variable::output(
+            "cavity_vm_max",
+            "MPa",
+            1,
+            "largest von Mises stress of all triangles",
+        ),
+        Variable::output(
+            "apex_ux",
+            "mm",
+            1,
+            "x-displacement of the diaphragm apex (highest diaphragm node)",
+        ),
+        Variable::output("apex_uy", "mm", 1, "y-displacement of the diaphragm apex"),
+        Variable::output(
+            "floor_mid_ux",
+            "mm",
+            1,
+            "x-displacement of the pelvic-floor midpoint",
+        ),
+        Variable::output(
+            "floor_mid_uy",
+            "mm",
+            1,
+            "y-displacement of the pelvic-floor midpoint",
+        ),
+        Variable::output(
+            "wall_mid_ux",
+            "mm",
+            1,
+            "x-displacement of the abdominal-wall midpoint",
+        ),
+        Variable::output(
+            "wall_mid_uy",
+            "mm",
+            1,
+            "y-displacement of the abdominal-wall midpoint",
+        ),
+        Variable::output(
+            "press_total",
+            "N/mm",
+            1,
+            "pressing force applied at the current time",
+        ),
+    ]);
+    t
+}
