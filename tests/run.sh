@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone: formatting, lints, every Rust test in release
-# mode, then the packaged FMUs in fmpy and the Dask sweep runner (a Python venv in .venv with
-# fmpy, pytest and dask is created on first use).
+# mode, then the packaged FMUs in three importers (fmpy, libcosim, Ecos) and the Dask sweep
+# runner (a Python venv in .venv is created on first use).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -12,10 +12,15 @@ fi
 
 echo "== cargo fmt --check"
 cargo fmt --all -- --check
-if ! ldconfig -p 2>/dev/null | grep -q 'libclang[-.0-9]*\.so'; then
-    echo "== installing libclang (bindgen in the fmi crate, the importer the tests and the harness's FMU backend use, needs it)"
+# System libraries: libclang for bindgen in the fmi crate (the importer the Rust tests and
+# the harness's FMU backend use), libtbb12 for Ecos (one of the Python importers).
+missing=()
+ldconfig -p 2>/dev/null | grep -q 'libclang[-.0-9]*\.so' || missing+=(libclang-dev)
+ldconfig -p 2>/dev/null | grep -q 'libtbb\.so\.12' || missing+=(libtbb12)
+if [ ${#missing[@]} -gt 0 ]; then
+    echo "== installing ${missing[*]}"
     export DEBIAN_FRONTEND=noninteractive
-    apt-get update -qq && apt-get install -y -qq libclang-dev >/dev/null
+    apt-get update -qq && apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
 echo "== cargo clippy (all targets and features, warnings are errors)"
 cargo clippy --workspace --all-targets --all-features --release -- -D warnings
@@ -28,11 +33,12 @@ echo "== Rust tests (release, with the harness's FMU backend)"
 cargo test --workspace --all-features --release
 cargo build --release -p harness --all-features
 
-echo "== Python environment (fmpy, pytest)"
+echo "== Python environment (three FMI importers: fmpy, libcosimpy, ecospy; pytest, dask, meshio)"
 if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
 fi
 .venv/bin/python -m pip install --quiet --disable-pip-version-check \
-    fmpy==0.3.32 pytest numpy meshio==5.3.5 "dask[distributed]==2026.8.0"
-echo "== FMUs in fmpy, the Dask sweep runner on a local two-worker cluster, VTU files in meshio"
+    fmpy==0.3.32 libcosimpy==0.0.6 ecospy==0.7.2 pytest numpy meshio==5.3.5 \
+    "dask[distributed]==2026.8.0"
+echo "== FMUs in fmpy, libcosim and Ecos; the Dask sweep runner on a local two-worker cluster; VTU files in meshio"
 .venv/bin/python -m pytest -q tests/python

@@ -26,7 +26,7 @@ const CASES: [(usize, &str, [f64; 2], &str); 2] = [
 fn in_process(bencher: Bencher, case: usize) {
     let (model, input, values, output) = CASES[case];
     let mut scene = (MODELS[model].create)();
-    scene.initialize().unwrap();
+    scene.initialize(0.0).unwrap();
     let (vin, vout) = (scene.lookup(input).unwrap(), scene.lookup(output).unwrap());
     let (mut t, mut k) = (0.0, 0);
     let mut y = [0.0];

@@ -9,33 +9,17 @@ use std::path::{Path, PathBuf};
 use models::scene::Start;
 use zip::write::SimpleFileOptions;
 
-use crate::model::{Model, MODELS};
+use crate::model::{Model, Version, MODELS};
 use crate::xml;
 
-/// FMI version of an archive.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Version {
-    Fmi2,
-    Fmi3,
-}
-
-impl Version {
-    fn tag(self) -> &'static str {
-        match self {
-            Version::Fmi2 => "fmi2",
-            Version::Fmi3 => "fmi3",
-        }
-    }
-
-    /// Binary folder name for this platform (FMI 2: `linux64`; FMI 3: `x86_64-linux`).
-    fn platform(self) -> Result<&'static str, String> {
-        match (self, std::env::consts::OS, std::env::consts::ARCH) {
-            (Version::Fmi2, "linux", "x86_64") => Ok("linux64"),
-            (Version::Fmi3, "linux", "x86_64") => Ok("x86_64-linux"),
-            (Version::Fmi2, "linux", "aarch64") => Ok("linux64"),
-            (Version::Fmi3, "linux", "aarch64") => Ok("aarch64-linux"),
-            (_, os, arch) => Err(format!("no FMI platform name known for {arch}-{os}")),
-        }
+/// Binary folder name for this platform (FMI 2: `linux64`; FMI 3: `x86_64-linux`).
+fn platform(version: Version) -> Result<&'static str, String> {
+    match (version, std::env::consts::OS, std::env::consts::ARCH) {
+        (Version::Fmi2, "linux", "x86_64") => Ok("linux64"),
+        (Version::Fmi3, "linux", "x86_64") => Ok("x86_64-linux"),
+        (Version::Fmi2, "linux", "aarch64") => Ok("linux64"),
+        (Version::Fmi3, "linux", "aarch64") => Ok("aarch64-linux"),
+        (_, os, arch) => Err(format!("no FMI platform name known for {arch}-{os}")),
     }
 }
 
@@ -84,7 +68,7 @@ pub fn write(
     };
     add("modelDescription.xml", description.as_bytes())?;
     add(
-        &format!("binaries/{}/{}.so", version.platform()?, model.identifier),
+        &format!("binaries/{}/{}.so", platform(version)?, model.identifier),
         &binary,
     )?;
     add("resources/defaults.toml", defaults(model).as_bytes())?;

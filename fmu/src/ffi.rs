@@ -1,10 +1,16 @@
-//! What both ABI files need from C: strings and arrays from raw pointers, and the guard
-//! every entry point runs the instance core in (state check, panic caught and reported).
+//! What both ABI files share: C strings and arrays from raw pointers; instantiation and
+//! freeing; the guard every entry point runs the instance core in (state check, panic caught
+//! and reported, queued messages handed to the importer's logger once the instance is
+//! released); and the calls whose marshalling is the same in FMI 2 and FMI 3 (debug
+//! logging, real and string get/set, value types the models do not have). `fmi2.rs` and
+//! `fmi3.rs` only convert their arguments into calls of these.
 
-use std::ffi::{c_char, c_int, c_void, CStr};
+use std::ffi::{c_char, c_int, c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::Arc;
 
-use crate::instance::{Call, Instance, Status};
+use crate::instance::{Call, Instance, Log, Status};
+use crate::model::Version;
 
 /// Reads a C string; `None` for null or invalid UTF-8.
 ///
@@ -44,9 +50,71 @@ pub unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]> {
     }
 }
 
+/// A logger over an importer's callback: `send(status, category, message)` receives C
+/// strings (NUL characters in the message replaced by spaces).
+pub fn logger(send: impl Fn(Status, &CStr, &CStr) + Send + Sync + 'static) -> Log {
+    Arc::new(move |status, category, message| {
+        let category = CString::new(category).unwrap_or_default();
+        let message = CString::new(message.replace('\0', " ")).unwrap_or_default();
+        send(status, &category, &message);
+    })
+}
+
+/// A logger that drops everything (the importer gave no callback).
+pub fn silent() -> Log {
+    Arc::new(|_, _, _| {})
+}
+
+/// Creates an instance from C arguments and returns its handle, or null with the reason
+/// logged: `refusal` (an argument the FMU cannot honour), a missing or foreign token, a bad
+/// resource location. Never unwinds into the importer.
+///
+/// # Safety
+/// The string pointers are null or NUL-terminated strings.
+pub unsafe fn instantiate(
+    version: Version,
+    name: *const c_char,
+    token: *const c_char,
+    location: *const c_char,
+    log: Log,
+    logging_on: bool,
+    refusal: Option<&str>,
+) -> *mut c_void {
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        if let Some(why) = refusal {
+            log(Status::Error, "logStatusError", why);
+            return std::ptr::null_mut();
+        }
+        let name = unsafe { text(name) }.unwrap_or_else(|| "tissuefmu".into());
+        let token = unsafe { text(token) };
+        let location = unsafe { text(location) };
+        Instance::into_handle(Instance::create(
+            version,
+            token.as_deref(),
+            &name,
+            location.as_deref(),
+            log,
+            logging_on,
+        ))
+    }));
+    result.unwrap_or(std::ptr::null_mut())
+}
+
+/// Frees an instance handle (null is ignored).
+///
+/// # Safety
+/// `c` is null or a handle from [`instantiate`], not used afterwards.
+pub unsafe fn free(c: *mut c_void) {
+    if !c.is_null() {
+        let _ = catch_unwind(|| drop(unsafe { Box::from_raw(c as *mut Instance) }));
+    }
+}
+
 /// Runs `f` on the instance behind `c` (after checking `call` against the state machine)
 /// inside a panic guard: a panic becomes an Error status, a logged message and an instance
-/// that only allows get, reset and free.
+/// that only allows get, reset and free. The messages the call queued go to the importer's
+/// logger after the instance is released, so a logger that calls back into the FMU gets an
+/// instance of its own, not an alias of this one.
 pub fn guard(
     c: *mut c_void,
     call: Option<(Call, &str)>,
@@ -55,33 +123,196 @@ pub fn guard(
     if c.is_null() {
         return Status::Error as c_int;
     }
-    // SAFETY: a non-null instance pointer comes from the instantiate function of the same
-    // ABI and has not been freed (the importer's obligation under the standard).
-    let instance = unsafe { &mut *(c as *mut Instance) };
-    let result = catch_unwind(AssertUnwindSafe(|| {
-        if let Some((call, name)) = call {
-            if let Err(s) = instance.check(call, name) {
-                return s;
+    let (status, log, messages) = {
+        // SAFETY: a non-null instance pointer comes from `instantiate` and has not been freed
+        // (the importer's obligation under the standard). This borrow ends with the block.
+        let instance = unsafe { &mut *(c as *mut Instance) };
+        let result = catch_unwind(AssertUnwindSafe(|| {
+            if let Some((call, name)) = call {
+                if let Err(s) = instance.check(call, name) {
+                    return s;
+                }
             }
-        }
-        f(instance)
-    }));
-    match result {
-        Ok(s) => s as c_int,
-        Err(panic) => {
+            f(instance)
+        }));
+        let status = result.unwrap_or_else(|panic| {
             let what = panic
                 .downcast_ref::<&str>()
                 .map(|s| s.to_string())
                 .or_else(|| panic.downcast_ref::<String>().cloned())
                 .unwrap_or_else(|| "unknown panic".into());
-            let _ = catch_unwind(AssertUnwindSafe(|| {
-                instance.poison();
-                instance.error(
-                    Status::Error,
-                    &format!("internal error (panic caught at the FMI boundary): {what}"),
-                )
-            }));
-            Status::Error as c_int
-        }
+            instance.poison();
+            instance.error(
+                Status::Error,
+                &format!("internal error (panic caught at the FMI boundary): {what}"),
+            )
+        });
+        (status, instance.logger(), instance.take_messages())
+    };
+    for (s, category, message) in messages {
+        let _ = catch_unwind(AssertUnwindSafe(|| log(s, category, &message)));
     }
+    status as c_int
+}
+
+/// `SetDebugLogging`.
+///
+/// # Safety
+/// `categories` is null or points to `n` C strings.
+pub unsafe fn set_debug_logging(
+    c: *mut c_void,
+    function: &str,
+    on: bool,
+    categories: *const *const c_char,
+    n: usize,
+) -> c_int {
+    guard(c, Some((Call::SetDebugLogging, function)), |i| {
+        let Some(cats) = (unsafe { slice(categories, n) }) else {
+            return i.error(Status::Error, &format!("{function}: categories is null"));
+        };
+        let cats: Vec<String> = cats
+            .iter()
+            .map(|&p| unsafe { text(p) }.unwrap_or_default())
+            .collect();
+        i.set_debug_logging(on, &cats)
+    })
+}
+
+/// `GetReal` / `GetFloat64`.
+///
+/// # Safety
+/// `vr` points to `nvr` references and `values` to `n` writable values (or are null when
+/// their count is 0).
+pub unsafe fn get_reals(
+    c: *mut c_void,
+    function: &str,
+    vr: *const u32,
+    nvr: usize,
+    values: *mut f64,
+    n: usize,
+) -> c_int {
+    guard(c, Some((Call::Get, function)), |i| {
+        match unsafe { (slice(vr, nvr), slice_mut(values, n)) } {
+            (Some(vr), Some(values)) => i.get_reals(vr, values),
+            _ => i.error(Status::Error, &format!("{function}: null array")),
+        }
+    })
+}
+
+/// `SetReal` / `SetFloat64`.
+///
+/// # Safety
+/// `vr` points to `nvr` references and `values` to `n` values (or are null when their count
+/// is 0).
+pub unsafe fn set_reals(
+    c: *mut c_void,
+    function: &str,
+    vr: *const u32,
+    nvr: usize,
+    values: *const f64,
+    n: usize,
+) -> c_int {
+    guard(c, Some((Call::Set, function)), |i| {
+        match unsafe { (slice(vr, nvr), slice(values, n)) } {
+            (Some(vr), Some(values)) => i.set_reals(vr, values),
+            _ => i.error(Status::Error, &format!("{function}: null array")),
+        }
+    })
+}
+
+/// `GetString`: the returned pointers stay valid until the next call on the instance.
+///
+/// # Safety
+/// `vr` points to `nvr` references and `values` to `n` writable pointers.
+pub unsafe fn get_strings(
+    c: *mut c_void,
+    function: &str,
+    vr: *const u32,
+    nvr: usize,
+    values: *mut *const c_char,
+    n: usize,
+) -> c_int {
+    guard(c, Some((Call::Get, function)), |i| {
+        let (Some(vr), Some(values)) = (unsafe { slice(vr, nvr) }, unsafe { slice_mut(values, n) })
+        else {
+            return i.error(Status::Error, &format!("{function}: null array"));
+        };
+        if vr.len() != values.len() {
+            return i.error(
+                Status::Error,
+                &format!("{function}: one value per reference expected"),
+            );
+        }
+        match i.get_strings(vr) {
+            Ok(strings) => {
+                for (v, s) in values.iter_mut().zip(strings) {
+                    *v = s.as_ptr();
+                }
+                Status::Ok
+            }
+            Err(s) => s,
+        }
+    })
+}
+
+/// `SetString`.
+///
+/// # Safety
+/// `vr` points to `nvr` references and `values` to `n` C strings.
+pub unsafe fn set_strings(
+    c: *mut c_void,
+    function: &str,
+    vr: *const u32,
+    nvr: usize,
+    values: *const *const c_char,
+    n: usize,
+) -> c_int {
+    guard(c, Some((Call::Set, function)), |i| {
+        let (Some(vr), Some(values)) = (unsafe { slice(vr, nvr) }, unsafe { slice(values, n) })
+        else {
+            return i.error(Status::Error, &format!("{function}: null array"));
+        };
+        let Some(values) = values
+            .iter()
+            .map(|&p| unsafe { text(p) })
+            .collect::<Option<Vec<_>>>()
+        else {
+            return i.error(
+                Status::Error,
+                &format!("{function}: null or non-UTF-8 string"),
+            );
+        };
+        if vr.len() != values.len() {
+            return i.error(
+                Status::Error,
+                &format!("{function}: one value per reference expected"),
+            );
+        }
+        i.set_strings(vr, &values)
+    })
+}
+
+/// Get or set of a value type the models do not have: no references is fine, any reference
+/// is unknown.
+pub fn no_variables(c: *mut c_void, function: &str, call: Call, nvr: usize) -> c_int {
+    guard(c, Some((call, function)), |i| {
+        if nvr == 0 {
+            Status::Ok
+        } else {
+            i.error(
+                Status::Error,
+                &format!("{function}: the model has no variables of this type"),
+            )
+        }
+    })
+}
+
+/// A function of a capability the model description declares absent.
+pub fn unsupported(c: *mut c_void, function: &str) -> c_int {
+    guard(c, None, |i| {
+        i.error(
+            Status::Error,
+            &format!("{function} is not supported (see the model description's capability flags)"),
+        )
+    })
 }

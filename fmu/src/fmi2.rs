@@ -4,10 +4,10 @@
 #![allow(non_snake_case, non_camel_case_types)]
 
 use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
-use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use crate::ffi::{guard, slice, slice_mut, text};
-use crate::instance::{Addressing, Call, Instance, Log, Status};
+use crate::ffi::{self, guard};
+use crate::instance::{Call, Instance, Log, Status};
+use crate::model::Version;
 
 pub type fmi2Component = *mut c_void;
 pub type fmi2ComponentEnvironment = *mut c_void;
@@ -44,29 +44,29 @@ const FMI2_CO_SIMULATION: c_int = 1;
 static TYPES_PLATFORM: &CStr = c"default";
 static VERSION: &CStr = c"2.0";
 
-/// A logger closure over the importer's callback.
-fn logger(functions: *const fmi2CallbackFunctions, name: &str) -> Log {
-    // SAFETY: the importer passes a valid callback struct that outlives the instance.
-    let (callback, env) = match unsafe { functions.as_ref() } {
+/// The importer's logger callback, with the instance name it wants in every message.
+///
+/// # Safety
+/// `functions` is null or a valid callback struct that outlives the instance.
+unsafe fn logger(functions: *const fmi2CallbackFunctions, name: fmi2String) -> Log {
+    let (Some(log), env) = (match unsafe { functions.as_ref() } {
         Some(f) => (f.logger, f.componentEnvironment as usize),
         None => (None, 0),
+    }) else {
+        return ffi::silent();
     };
-    let name = CString::new(name).unwrap_or_default();
-    Box::new(move |status, category, message| {
-        if let Some(log) = callback {
-            let category = CString::new(category).unwrap_or_default();
-            let message = CString::new(message.replace('\0', " ")).unwrap_or_default();
-            // SAFETY: FMI 2 logger contract; the message is passed through a "%s" format.
-            unsafe {
-                log(
-                    env as *mut c_void,
-                    name.as_ptr(),
-                    status as fmi2Status,
-                    category.as_ptr(),
-                    c"%s".as_ptr(),
-                    message.as_ptr(),
-                )
-            };
+    let name = CString::new(unsafe { ffi::text(name) }.unwrap_or_default()).unwrap_or_default();
+    ffi::logger(move |status, category, message| {
+        // SAFETY: FMI 2 logger contract; the message is passed through a "%s" format.
+        unsafe {
+            log(
+                env as *mut c_void,
+                name.as_ptr(),
+                status as fmi2Status,
+                category.as_ptr(),
+                c"%s".as_ptr(),
+                message.as_ptr(),
+            )
         }
     })
 }
@@ -93,37 +93,26 @@ pub unsafe extern "C" fn fmi2Instantiate(
     _visible: fmi2Boolean,
     loggingOn: fmi2Boolean,
 ) -> fmi2Component {
-    let result = catch_unwind(AssertUnwindSafe(|| {
-        let name = unsafe { text(instanceName) }.unwrap_or_else(|| "tissuefmu".into());
-        let log = logger(functions, &name);
-        if fmuType != FMI2_CO_SIMULATION {
-            log(
-                Status::Error,
-                "logStatusError",
-                "only co-simulation (fmi2CoSimulation) is supported",
-            );
-            return std::ptr::null_mut();
-        }
-        let guid = unsafe { text(fmuGUID) };
-        let location = unsafe { text(fmuResourceLocation) };
-        Instance::into_handle(Instance::create(
-            guid.as_deref(),
-            &name,
-            location.as_deref(),
-            log,
+    let refusal = (fmuType != FMI2_CO_SIMULATION)
+        .then_some("only co-simulation (fmi2CoSimulation) is supported");
+    unsafe {
+        ffi::instantiate(
+            Version::Fmi2,
+            instanceName,
+            fmuGUID,
+            fmuResourceLocation,
+            logger(functions, instanceName),
             loggingOn != 0,
-        ))
-    }));
-    result.unwrap_or(std::ptr::null_mut())
+            refusal,
+        )
+    }
 }
 
 /// # Safety
 /// `c` is null or a component from `fmi2Instantiate`, not used afterwards.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
-    if !c.is_null() {
-        let _ = catch_unwind(|| drop(unsafe { Box::from_raw(c as *mut Instance) }));
-    }
+    unsafe { ffi::free(c) }
 }
 
 /// # Safety
@@ -135,20 +124,7 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     n: usize,
     categories: *const fmi2String,
 ) -> fmi2Status {
-    guard(
-        c,
-        Some((Call::SetDebugLogging, "fmi2SetDebugLogging")),
-        |i| {
-            let Some(cats) = (unsafe { slice(categories, n) }) else {
-                return i.error(Status::Error, "categories is null");
-            };
-            let cats: Vec<String> = cats
-                .iter()
-                .map(|&p| unsafe { text(p) }.unwrap_or_default())
-                .collect();
-            i.set_debug_logging(loggingOn != 0, &cats)
-        },
-    )
+    unsafe { ffi::set_debug_logging(c, "fmi2SetDebugLogging", loggingOn != 0, categories, n) }
 }
 
 /// # Safety
@@ -218,12 +194,7 @@ pub unsafe extern "C" fn fmi2GetReal(
     n: usize,
     value: *mut fmi2Real,
 ) -> fmi2Status {
-    guard(c, Some((Call::Get, "fmi2GetReal")), |i| {
-        match unsafe { (slice(vr, n), slice_mut(value, n)) } {
-            (Some(vr), Some(value)) => i.get_reals(Addressing::Scalars, vr, value),
-            _ => i.error(Status::Error, "fmi2GetReal: null array"),
-        }
-    })
+    unsafe { ffi::get_reals(c, "fmi2GetReal", vr, n, value, n) }
 }
 
 /// # Safety
@@ -235,12 +206,7 @@ pub unsafe extern "C" fn fmi2SetReal(
     n: usize,
     value: *const fmi2Real,
 ) -> fmi2Status {
-    guard(c, Some((Call::Set, "fmi2SetReal")), |i| {
-        match unsafe { (slice(vr, n), slice(value, n)) } {
-            (Some(vr), Some(value)) => i.set_reals(Addressing::Scalars, vr, value),
-            _ => i.error(Status::Error, "fmi2SetReal: null array"),
-        }
-    })
+    unsafe { ffi::set_reals(c, "fmi2SetReal", vr, n, value, n) }
 }
 
 /// # Safety
@@ -252,21 +218,7 @@ pub unsafe extern "C" fn fmi2GetString(
     n: usize,
     value: *mut fmi2String,
 ) -> fmi2Status {
-    guard(c, Some((Call::Get, "fmi2GetString")), |i| {
-        let (Some(vr), Some(value)) = (unsafe { slice(vr, n) }, unsafe { slice_mut(value, n) })
-        else {
-            return i.error(Status::Error, "fmi2GetString: null array");
-        };
-        match i.get_strings(Addressing::Scalars, vr) {
-            Ok(strings) => {
-                for (v, s) in value.iter_mut().zip(strings) {
-                    *v = s.as_ptr();
-                }
-                Status::Ok
-            }
-            Err(s) => s,
-        }
-    })
+    unsafe { ffi::get_strings(c, "fmi2GetString", vr, n, value, n) }
 }
 
 /// # Safety
@@ -278,34 +230,7 @@ pub unsafe extern "C" fn fmi2SetString(
     n: usize,
     value: *const fmi2String,
 ) -> fmi2Status {
-    guard(c, Some((Call::Set, "fmi2SetString")), |i| {
-        let (Some(vr), Some(value)) = (unsafe { slice(vr, n) }, unsafe { slice(value, n) }) else {
-            return i.error(Status::Error, "fmi2SetString: null array");
-        };
-        let Some(values) = value
-            .iter()
-            .map(|&p| unsafe { text(p) })
-            .collect::<Option<Vec<_>>>()
-        else {
-            return i.error(Status::Error, "fmi2SetString: null or non-UTF-8 string");
-        };
-        i.set_strings(Addressing::Scalars, vr, &values)
-    })
-}
-
-/// Integer and Boolean variables do not exist in these models: zero references is fine,
-/// any reference is unknown.
-fn no_variables(c: fmi2Component, n: usize, function: &str, call: Call) -> fmi2Status {
-    guard(c, Some((call, function)), |i| {
-        if n == 0 {
-            Status::Ok
-        } else {
-            i.error(
-                Status::Error,
-                &format!("{function}: the model has no variables of this type"),
-            )
-        }
-    })
+    unsafe { ffi::set_strings(c, "fmi2SetString", vr, n, value, n) }
 }
 
 /// # Safety
@@ -317,7 +242,7 @@ pub unsafe extern "C" fn fmi2GetInteger(
     n: usize,
     _v: *mut fmi2Integer,
 ) -> fmi2Status {
-    no_variables(c, n, "fmi2GetInteger", Call::Get)
+    ffi::no_variables(c, "fmi2GetInteger", Call::Get, n)
 }
 
 /// # Safety
@@ -329,7 +254,7 @@ pub unsafe extern "C" fn fmi2SetInteger(
     n: usize,
     _v: *const fmi2Integer,
 ) -> fmi2Status {
-    no_variables(c, n, "fmi2SetInteger", Call::Set)
+    ffi::no_variables(c, "fmi2SetInteger", Call::Set, n)
 }
 
 /// # Safety
@@ -341,7 +266,7 @@ pub unsafe extern "C" fn fmi2GetBoolean(
     n: usize,
     _v: *mut fmi2Boolean,
 ) -> fmi2Status {
-    no_variables(c, n, "fmi2GetBoolean", Call::Get)
+    ffi::no_variables(c, "fmi2GetBoolean", Call::Get, n)
 }
 
 /// # Safety
@@ -353,7 +278,7 @@ pub unsafe extern "C" fn fmi2SetBoolean(
     n: usize,
     _v: *const fmi2Boolean,
 ) -> fmi2Status {
-    no_variables(c, n, "fmi2SetBoolean", Call::Set)
+    ffi::no_variables(c, "fmi2SetBoolean", Call::Set, n)
 }
 
 /// # Safety
@@ -370,42 +295,32 @@ pub unsafe extern "C" fn fmi2DoStep(
     })
 }
 
-/// Functions for capabilities the model description declares absent.
-fn unsupported(c: fmi2Component, function: &str) -> fmi2Status {
-    guard(c, None, |i| {
-        i.error(
-            Status::Error,
-            &format!("{function} is not supported (see the model description's capability flags)"),
-        )
-    })
-}
-
 /// # Safety
 /// FMI 2.0 contract.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
-    unsupported(c, "fmi2CancelStep")
+    ffi::unsupported(c, "fmi2CancelStep")
 }
 
 /// # Safety
 /// FMI 2.0 contract.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, _s: *mut fmi2FMUstate) -> fmi2Status {
-    unsupported(c, "fmi2GetFMUstate")
+    ffi::unsupported(c, "fmi2GetFMUstate")
 }
 
 /// # Safety
 /// FMI 2.0 contract.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, _s: fmi2FMUstate) -> fmi2Status {
-    unsupported(c, "fmi2SetFMUstate")
+    ffi::unsupported(c, "fmi2SetFMUstate")
 }
 
 /// # Safety
 /// FMI 2.0 contract.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2FreeFMUstate(c: fmi2Component, _s: *mut fmi2FMUstate) -> fmi2Status {
-    unsupported(c, "fmi2FreeFMUstate")
+    ffi::unsupported(c, "fmi2FreeFMUstate")
 }
 
 /// # Safety
@@ -416,7 +331,7 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     _s: fmi2FMUstate,
     _n: *mut usize,
 ) -> fmi2Status {
-    unsupported(c, "fmi2SerializedFMUstateSize")
+    ffi::unsupported(c, "fmi2SerializedFMUstateSize")
 }
 
 /// # Safety
@@ -428,7 +343,7 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
     _b: *mut c_char,
     _n: usize,
 ) -> fmi2Status {
-    unsupported(c, "fmi2SerializeFMUstate")
+    ffi::unsupported(c, "fmi2SerializeFMUstate")
 }
 
 /// # Safety
@@ -440,7 +355,7 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     _n: usize,
     _s: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    unsupported(c, "fmi2DeSerializeFMUstate")
+    ffi::unsupported(c, "fmi2DeSerializeFMUstate")
 }
 
 /// # Safety
@@ -455,7 +370,7 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     _dv: *const fmi2Real,
     _dz: *mut fmi2Real,
 ) -> fmi2Status {
-    unsupported(c, "fmi2GetDirectionalDerivative")
+    ffi::unsupported(c, "fmi2GetDirectionalDerivative")
 }
 
 /// # Safety
@@ -468,7 +383,7 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
     _order: *const fmi2Integer,
     _v: *const fmi2Real,
 ) -> fmi2Status {
-    unsupported(c, "fmi2SetRealInputDerivatives")
+    ffi::unsupported(c, "fmi2SetRealInputDerivatives")
 }
 
 /// # Safety
@@ -481,7 +396,7 @@ pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
     _order: *const fmi2Integer,
     _v: *mut fmi2Real,
 ) -> fmi2Status {
-    unsupported(c, "fmi2GetRealOutputDerivatives")
+    ffi::unsupported(c, "fmi2GetRealOutputDerivatives")
 }
 
 /// # Safety
@@ -492,7 +407,7 @@ pub unsafe extern "C" fn fmi2GetStatus(
     _kind: c_int,
     _value: *mut fmi2Status,
 ) -> fmi2Status {
-    unsupported(c, "fmi2GetStatus")
+    ffi::unsupported(c, "fmi2GetStatus")
 }
 
 /// # Safety
@@ -524,7 +439,7 @@ pub unsafe extern "C" fn fmi2GetIntegerStatus(
     _kind: c_int,
     _value: *mut fmi2Integer,
 ) -> fmi2Status {
-    unsupported(c, "fmi2GetIntegerStatus")
+    ffi::unsupported(c, "fmi2GetIntegerStatus")
 }
 
 /// # Safety
@@ -556,5 +471,5 @@ pub unsafe extern "C" fn fmi2GetStringStatus(
     _kind: c_int,
     _value: *mut fmi2String,
 ) -> fmi2Status {
-    unsupported(c, "fmi2GetStringStatus")
+    ffi::unsupported(c, "fmi2GetStringStatus")
 }

@@ -6,11 +6,11 @@
 
 #![allow(non_snake_case, non_camel_case_types)]
 
-use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
-use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::ffi::{c_char, c_int, c_uint, c_void, CStr};
 
-use crate::ffi::{guard, slice, slice_mut, text};
-use crate::instance::{Addressing, Call, Instance, Log, Status};
+use crate::ffi::{self, guard};
+use crate::instance::{Call, Instance, Log, Status};
+use crate::model::Version;
 
 pub type fmi3Instance = *mut c_void;
 pub type fmi3InstanceEnvironment = *mut c_void;
@@ -25,21 +25,21 @@ pub type fmi3LogMessageCallback =
 
 static VERSION: &CStr = c"3.0";
 
+/// The importer's logMessage callback.
 fn logger(callback: fmi3LogMessageCallback, env: fmi3InstanceEnvironment) -> Log {
+    let Some(log) = callback else {
+        return ffi::silent();
+    };
     let env = env as usize;
-    Box::new(move |status, category, message| {
-        if let Some(log) = callback {
-            let category = CString::new(category).unwrap_or_default();
-            let message = CString::new(message.replace('\0', " ")).unwrap_or_default();
-            // SAFETY: FMI 3 logMessage contract.
-            unsafe {
-                log(
-                    env as *mut c_void,
-                    status as fmi3Status,
-                    category.as_ptr(),
-                    message.as_ptr(),
-                )
-            };
+    ffi::logger(move |status, category, message| {
+        // SAFETY: FMI 3 logMessage contract.
+        unsafe {
+            log(
+                env as *mut c_void,
+                status as fmi3Status,
+                category.as_ptr(),
+                message.as_ptr(),
+            )
         }
     })
 }
@@ -49,6 +49,8 @@ pub extern "C" fn fmi3GetVersion() -> fmi3String {
     VERSION.as_ptr()
 }
 
+/// Event mode is refused: the model description says `hasEventMode="false"`.
+///
 /// # Safety
 /// FMI 3.0 contract for all pointer arguments.
 #[unsafe(no_mangle)]
@@ -58,7 +60,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     resourcePath: fmi3String,
     _visible: fmi3Boolean,
     loggingOn: fmi3Boolean,
-    _eventModeUsed: fmi3Boolean,
+    eventModeUsed: fmi3Boolean,
     _earlyReturnAllowed: fmi3Boolean,
     _requiredIntermediateVariables: *const fmi3ValueReference,
     _nRequiredIntermediateVariables: usize,
@@ -66,20 +68,21 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     logMessage: fmi3LogMessageCallback,
     _intermediateUpdate: *const c_void,
 ) -> fmi3Instance {
-    catch_unwind(AssertUnwindSafe(|| {
-        let name = unsafe { text(instanceName) }.unwrap_or_else(|| "tissuefmu".into());
-        let log = logger(logMessage, instanceEnvironment);
-        let token = unsafe { text(instantiationToken) };
-        let location = unsafe { text(resourcePath) };
-        Instance::into_handle(Instance::create(
-            token.as_deref(),
-            &name,
-            location.as_deref(),
-            log,
+    let refusal = eventModeUsed.then_some(
+        "eventModeUsed = true: this FMU has no event mode (hasEventMode = false); instantiate \
+         with eventModeUsed = false",
+    );
+    unsafe {
+        ffi::instantiate(
+            Version::Fmi3,
+            instanceName,
+            instantiationToken,
+            resourcePath,
+            logger(logMessage, instanceEnvironment),
             loggingOn,
-        ))
-    }))
-    .unwrap_or(std::ptr::null_mut())
+            refusal,
+        )
+    }
 }
 
 /// Model exchange is not offered.
@@ -98,9 +101,7 @@ pub extern "C" fn fmi3InstantiateScheduledExecution() -> fmi3Instance {
 /// `c` is null or an instance from fmi3InstantiateCoSimulation, not used afterwards.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3FreeInstance(c: fmi3Instance) {
-    if !c.is_null() {
-        let _ = catch_unwind(|| drop(unsafe { Box::from_raw(c as *mut Instance) }));
-    }
+    unsafe { ffi::free(c) }
 }
 
 /// # Safety
@@ -112,20 +113,7 @@ pub unsafe extern "C" fn fmi3SetDebugLogging(
     n: usize,
     categories: *const fmi3String,
 ) -> fmi3Status {
-    guard(
-        c,
-        Some((Call::SetDebugLogging, "fmi3SetDebugLogging")),
-        |i| {
-            let Some(cats) = (unsafe { slice(categories, n) }) else {
-                return i.error(Status::Error, "categories is null");
-            };
-            let cats: Vec<String> = cats
-                .iter()
-                .map(|&p| unsafe { text(p) }.unwrap_or_default())
-                .collect();
-            i.set_debug_logging(loggingOn, &cats)
-        },
-    )
+    unsafe { ffi::set_debug_logging(c, "fmi3SetDebugLogging", loggingOn, categories, n) }
 }
 
 /// # Safety
@@ -197,12 +185,7 @@ pub unsafe extern "C" fn fmi3GetFloat64(
     values: *mut fmi3Float64,
     n: usize,
 ) -> fmi3Status {
-    guard(c, Some((Call::Get, "fmi3GetFloat64")), |i| {
-        match unsafe { (slice(vr, nvr), slice_mut(values, n)) } {
-            (Some(vr), Some(values)) => i.get_reals(Addressing::Arrays, vr, values),
-            _ => i.error(Status::Error, "fmi3GetFloat64: null array"),
-        }
-    })
+    unsafe { ffi::get_reals(c, "fmi3GetFloat64", vr, nvr, values, n) }
 }
 
 /// # Safety
@@ -215,12 +198,7 @@ pub unsafe extern "C" fn fmi3SetFloat64(
     values: *const fmi3Float64,
     n: usize,
 ) -> fmi3Status {
-    guard(c, Some((Call::Set, "fmi3SetFloat64")), |i| {
-        match unsafe { (slice(vr, nvr), slice(values, n)) } {
-            (Some(vr), Some(values)) => i.set_reals(Addressing::Arrays, vr, values),
-            _ => i.error(Status::Error, "fmi3SetFloat64: null array"),
-        }
-    })
+    unsafe { ffi::set_reals(c, "fmi3SetFloat64", vr, nvr, values, n) }
 }
 
 /// # Safety
@@ -233,27 +211,7 @@ pub unsafe extern "C" fn fmi3GetString(
     values: *mut fmi3String,
     n: usize,
 ) -> fmi3Status {
-    guard(c, Some((Call::Get, "fmi3GetString")), |i| {
-        let (Some(vr), Some(values)) = (unsafe { slice(vr, nvr) }, unsafe { slice_mut(values, n) })
-        else {
-            return i.error(Status::Error, "fmi3GetString: null array");
-        };
-        if vr.len() != values.len() {
-            return i.error(
-                Status::Error,
-                "fmi3GetString: one value per reference expected",
-            );
-        }
-        match i.get_strings(Addressing::Arrays, vr) {
-            Ok(strings) => {
-                for (v, s) in values.iter_mut().zip(strings) {
-                    *v = s.as_ptr();
-                }
-                Status::Ok
-            }
-            Err(s) => s,
-        }
-    })
+    unsafe { ffi::get_strings(c, "fmi3GetString", vr, nvr, values, n) }
 }
 
 /// # Safety
@@ -266,26 +224,7 @@ pub unsafe extern "C" fn fmi3SetString(
     values: *const fmi3String,
     n: usize,
 ) -> fmi3Status {
-    guard(c, Some((Call::Set, "fmi3SetString")), |i| {
-        let (Some(vr), Some(values)) = (unsafe { slice(vr, nvr) }, unsafe { slice(values, n) })
-        else {
-            return i.error(Status::Error, "fmi3SetString: null array");
-        };
-        let Some(values) = values
-            .iter()
-            .map(|&p| unsafe { text(p) })
-            .collect::<Option<Vec<_>>>()
-        else {
-            return i.error(Status::Error, "fmi3SetString: null or non-UTF-8 string");
-        };
-        if vr.len() != values.len() {
-            return i.error(
-                Status::Error,
-                "fmi3SetString: one value per reference expected",
-            );
-        }
-        i.set_strings(Addressing::Arrays, vr, &values)
-    })
+    unsafe { ffi::set_strings(c, "fmi3SetString", vr, nvr, values, n) }
 }
 
 /// # Safety
@@ -318,10 +257,57 @@ pub unsafe extern "C" fn fmi3DoStep(
     })
 }
 
-/// Exports `fmi3<name>` for the functions of capabilities these FMUs do not have (other
-/// value types, FMU state, derivatives, clocks, events, model exchange). Each reports an
-/// error through the logger. They read only their first argument, the instance: with the
-/// C calling convention the remaining arguments are the caller's to clean up.
+/// Exports `fmi3Get<Type>` / `fmi3Set<Type>` for the value types these FMUs do not have:
+/// no references is fine, any reference is unknown (as in FMI 2). They read their first
+/// three arguments, (instance, valueReferences, nValueReferences), which every get and set
+/// function of FMI 3 starts with; with the C calling convention the caller cleans up the
+/// rest.
+macro_rules! no_variables {
+    ($($name:ident: $call:ident),* $(,)?) => {$(
+        /// A value type these FMUs do not have.
+        ///
+        /// # Safety
+        /// FMI 3.0 contract.
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name(
+            c: fmi3Instance,
+            _vr: *const fmi3ValueReference,
+            nvr: usize,
+        ) -> fmi3Status {
+            ffi::no_variables(c, stringify!($name), Call::$call, nvr)
+        }
+    )*};
+}
+
+no_variables!(
+    fmi3GetFloat32: Get,
+    fmi3GetInt8: Get,
+    fmi3GetUInt8: Get,
+    fmi3GetInt16: Get,
+    fmi3GetUInt16: Get,
+    fmi3GetInt32: Get,
+    fmi3GetUInt32: Get,
+    fmi3GetInt64: Get,
+    fmi3GetUInt64: Get,
+    fmi3GetBoolean: Get,
+    fmi3GetBinary: Get,
+    fmi3SetFloat32: Set,
+    fmi3SetInt8: Set,
+    fmi3SetUInt8: Set,
+    fmi3SetInt16: Set,
+    fmi3SetUInt16: Set,
+    fmi3SetInt32: Set,
+    fmi3SetUInt32: Set,
+    fmi3SetInt64: Set,
+    fmi3SetUInt64: Set,
+    fmi3SetBoolean: Set,
+    fmi3SetBinary: Set,
+);
+
+/// Exports `fmi3<name>` for the functions of capabilities these FMUs do not have (clocks,
+/// FMU state, derivatives, events, model exchange). Each reports an error through the
+/// logger. They read only their first argument, the instance: with the C calling
+/// convention the remaining arguments are the caller's to clean up.
 macro_rules! unsupported {
     ($($name:ident),* $(,)?) => {$(
         /// Not supported by these FMUs (see the model description's capability flags).
@@ -330,36 +316,14 @@ macro_rules! unsupported {
         /// FMI 3.0 contract.
         #[unsafe(no_mangle)]
         pub unsafe extern "C" fn $name(c: fmi3Instance) -> fmi3Status {
-            guard(c, None, |i| i.error(Status::Error, concat!(stringify!($name), " is not supported by this FMU")))
+            ffi::unsupported(c, stringify!($name))
         }
     )*};
 }
 
 unsupported!(
     fmi3EnterEventMode,
-    fmi3GetFloat32,
-    fmi3GetInt8,
-    fmi3GetUInt8,
-    fmi3GetInt16,
-    fmi3GetUInt16,
-    fmi3GetInt32,
-    fmi3GetUInt32,
-    fmi3GetInt64,
-    fmi3GetUInt64,
-    fmi3GetBoolean,
-    fmi3GetBinary,
     fmi3GetClock,
-    fmi3SetFloat32,
-    fmi3SetInt8,
-    fmi3SetUInt8,
-    fmi3SetInt16,
-    fmi3SetUInt16,
-    fmi3SetInt32,
-    fmi3SetUInt32,
-    fmi3SetInt64,
-    fmi3SetUInt64,
-    fmi3SetBoolean,
-    fmi3SetBinary,
     fmi3SetClock,
     fmi3GetNumberOfVariableDependencies,
     fmi3GetVariableDependencies,

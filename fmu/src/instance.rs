@@ -1,14 +1,26 @@
 //! The model-independent FMI instance: the state machine that checks every call against the
 //! states in which the standard allows it, value-reference mapping for FMI 2 (indexed
-//! scalars) and FMI 3 (arrays), error reporting through the logger, and the scene behind it.
-//! The ABI files only convert C arguments and call into this.
+//! scalars) and FMI 3 (arrays), error reporting, and the scene behind it. The ABI files only
+//! convert C arguments and call into this.
+//!
+//! - **Initialization Mode** follows FMI 2.0 §4.2.4 / FMI 3.0 §4.2: inputs and parameters
+//!   can be set and outputs read there. The scene is built on the first read of an output
+//!   (or at `ExitInitializationMode`) from the values set so far; a value set after that
+//!   build makes the next read build again, and `ExitInitializationMode` builds only if no
+//!   build is current.
+//! - **Messages** are queued while a call runs and handed to the importer's logger by
+//!   the ABI guard (`ffi::guard`) after the call has released the instance, so a logger that calls
+//!   back into the FMU never aliases it.
+//! - **Sets of several values** are checked as a whole: if any value is refused, the values
+//!   set before it in the same call are restored and the call changes nothing.
 
 use std::ffi::CString;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use models::scene::{Causality, ErrorKind, Scene, SceneError, Variable, VariableKind};
 
-use crate::model::Model;
+use crate::model::{Model, Version};
 
 /// Call status, shared by FMI 2 and FMI 3 (same codes 0–4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -47,14 +59,18 @@ pub enum Call {
 
 impl Call {
     /// Phases in which the call is allowed (FMI 2.0 §4.2.4 state machine; FMI 3.0 §4.2
-    /// co-simulation without event mode has the same structure).
-    fn allowed(self, phase: Phase) -> bool {
+    /// co-simulation without event mode, where variables can also be read when
+    /// instantiated).
+    fn allowed(self, phase: Phase, version: Version) -> bool {
         use Phase::*;
         match self {
             Call::SetupExperiment | Call::EnterInitialization => phase == Instantiated,
             Call::ExitInitialization => phase == Initialization,
             Call::Set => matches!(phase, Instantiated | Initialization | Step),
-            Call::Get => matches!(phase, Initialization | Step | Terminated | Error),
+            Call::Get => {
+                matches!(phase, Initialization | Step | Terminated | Error)
+                    || (phase == Instantiated && version == Version::Fmi3)
+            }
             Call::DoStep => phase == Step,
             Call::Terminate => matches!(phase, Step | Error),
             Call::Reset | Call::SetDebugLogging => true,
@@ -63,7 +79,10 @@ impl Call {
 }
 
 /// The logger: (status, category, message).
-pub type Log = Box<dyn Fn(Status, &str, &str) + Send>;
+pub type Log = Arc<dyn Fn(Status, &str, &str) + Send + Sync>;
+
+/// A queued log message: status, category, text.
+pub type Message = (Status, &'static str, String);
 
 /// One FMI 2 scalar: a scalar variable, or element `index` of an array variable.
 #[derive(Debug, Clone, PartialEq)]
@@ -95,24 +114,30 @@ pub fn time_vr(vars: &[Variable]) -> u32 {
     vars.len() as u32
 }
 
-/// How value references address values.
+/// A value reference resolved: the scene variable, the first element and the count.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Addressing {
-    /// FMI 2: one value per reference; arrays as indexed scalars.
-    Scalars,
-    /// FMI 3: a reference per variable, `len` values each; plus `time`.
-    Arrays,
+struct Resolved {
+    vr: u32,
+    index: usize,
+    len: usize,
 }
 
 /// An FMI instance.
 pub struct Instance {
     pub name: String,
     model: &'static Model,
+    version: Version,
     scene: Box<dyn Scene>,
     phase: Phase,
+    /// Whether the scene is initialized with every value set so far.
+    built: bool,
+    /// Why the initialization failed, for the messages of later calls.
+    failure: Option<String>,
+    start_time: f64,
     time: f64,
     resources: Option<PathBuf>,
     log: Log,
+    messages: Vec<Message>,
     log_calls: bool,
     scalars: Vec<Scalar>,
     buffer: Vec<f64>,
@@ -124,6 +149,7 @@ impl Instance {
     /// resources at `location` (any of the forms [`crate::uri::resource_dir`] accepts). On
     /// failure the reason goes to `log` and the result is `None`.
     pub fn create(
+        version: Version,
         token: Option<&str>,
         name: &str,
         location: Option<&str>,
@@ -150,19 +176,21 @@ impl Instance {
             Some(Ok(dir)) => Some(dir),
             Some(Err(m)) => return fail(&m),
         };
-        let mut scene = (model.create)();
-        if let Some(dir) = &resources {
-            scene.set_resource_dir(dir);
-        }
+        let scene = scene_for(model, resources.as_deref());
         Some(Self {
             name: name.to_string(),
             scalars: fmi2_scalars(scene.variables()),
             model,
+            version,
             scene,
             phase: Phase::Instantiated,
+            built: false,
+            failure: None,
+            start_time: 0.0,
             time: 0.0,
             resources,
             log,
+            messages: Vec::new(),
             log_calls,
             buffer: Vec::new(),
             strings: Vec::new(),
@@ -189,60 +217,69 @@ impl Instance {
         self.time
     }
 
-    /// Logs an error (always) and returns `status`.
-    pub fn error(&self, status: Status, message: &str) -> Status {
-        (self.log)(status, "logStatusError", message);
+    /// The logger, for the ABI guard (`ffi::guard`) to hand the queued messages to.
+    pub fn logger(&self) -> Log {
+        self.log.clone()
+    }
+
+    /// The messages queued since the last call, in order.
+    pub fn take_messages(&mut self) -> Vec<Message> {
+        std::mem::take(&mut self.messages)
+    }
+
+    /// Queues an error message (always logged) and returns `status`.
+    pub fn error(&mut self, status: Status, message: &str) -> Status {
+        self.messages
+            .push((status, "logStatusError", message.to_string()));
         status
     }
 
     /// Turns call logging on or off (category `logCalls`). Unknown categories are an error.
     pub fn set_debug_logging(&mut self, on: bool, categories: &[String]) -> Status {
-        for c in categories {
-            if c != "logCalls" && c != "logStatusError" {
-                return self.error(
-                    Status::Error,
-                    &format!("unknown log category `{c}` (have logStatusError, logCalls)"),
-                );
-            }
+        if let Some(c) = categories
+            .iter()
+            .find(|c| *c != "logCalls" && *c != "logStatusError")
+        {
+            let message = format!("unknown log category `{c}` (have logStatusError, logCalls)");
+            return self.error(Status::Error, &message);
         }
         self.log_calls =
             on && (categories.is_empty() || categories.iter().any(|c| c == "logCalls"));
         Status::Ok
     }
 
-    /// Checks that `call` is allowed now; logs and returns Error otherwise.
-    pub fn check(&self, call: Call, function: &str) -> Result<(), Status> {
+    /// Checks that `call` is allowed now; queues a message and returns Error otherwise.
+    pub fn check(&mut self, call: Call, function: &str) -> Result<(), Status> {
         if self.log_calls {
-            (self.log)(
-                Status::Ok,
-                "logCalls",
-                &format!("{function} (phase {:?})", self.phase),
-            );
+            let message = format!("{function} (phase {:?})", self.phase);
+            self.messages.push((Status::Ok, "logCalls", message));
         }
-        if call.allowed(self.phase) {
+        if call.allowed(self.phase, self.version) {
             Ok(())
         } else {
-            Err(self.error(
-                Status::Error,
-                &format!("{function} is not allowed in phase {:?}", self.phase),
-            ))
+            let message = format!("{function} is not allowed in phase {:?}", self.phase);
+            Err(self.error(Status::Error, &message))
         }
     }
 
-    /// Logs a scene error, named by its kind when the model failed while running.
-    fn fail(&self, e: &SceneError) -> Status {
-        match e.kind() {
-            ErrorKind::Runtime => self.error(Status::Error, &format!("{}: {e}", e.kind())),
-            ErrorKind::Usage | ErrorKind::Configuration => {
-                self.error(Status::Error, &e.to_string())
-            }
+    /// Queues a scene error, named by its kind when the model failed while running, and
+    /// with the reason when the initialization had failed.
+    fn fail(&mut self, e: &SceneError) -> Status {
+        let mut message = match e.kind() {
+            ErrorKind::Runtime => format!("{}: {e}", e.kind()),
+            ErrorKind::Usage | ErrorKind::Configuration => e.to_string(),
+        };
+        if let (SceneError::NotInitialized { .. }, Some(why)) = (e, &self.failure) {
+            message += &format!(" (the initialization failed: {why})");
         }
+        self.error(Status::Error, &message)
     }
 
     pub fn setup_experiment(&mut self, start: f64) -> Status {
         if !start.is_finite() {
             return self.error(Status::Error, &format!("start time {start} is not finite"));
         }
+        self.start_time = start;
         self.time = start;
         Status::Ok
     }
@@ -252,37 +289,82 @@ impl Instance {
         Status::Ok
     }
 
-    /// Builds the scene (mesh, factorization) and solves the initial state.
-    pub fn exit_initialization(&mut self) -> Status {
-        match self.scene.initialize() {
+    /// Builds the scene (mesh, factorization) and solves the initial state, unless the
+    /// build is current. A failure moves the instance to the error phase.
+    fn build(&mut self) -> Status {
+        if self.built {
+            return Status::Ok;
+        }
+        if self.log_calls {
+            let message = format!("building the model, start time {} s", self.start_time);
+            self.messages.push((Status::Ok, "logCalls", message));
+        }
+        match self.scene.initialize(self.start_time) {
             Ok(()) => {
-                self.phase = Phase::Step;
+                self.built = true;
                 Status::Ok
             }
             Err(e) => {
                 self.phase = Phase::Error;
+                self.failure = Some(e.to_string());
                 self.fail(&e)
             }
+        }
+    }
+
+    /// Before a value is set in Initialization Mode after a build: a fresh scene with the
+    /// values set so far (the next read or the exit builds it again).
+    fn unbuild(&mut self) -> Result<(), SceneError> {
+        if self.phase != Phase::Initialization || !self.built {
+            return Ok(());
+        }
+        let mut fresh = scene_for(self.model, self.resources.as_deref());
+        let settable: Vec<(u32, VariableKind)> = self
+            .scene
+            .variables()
+            .iter()
+            .filter(|v| v.causality != Causality::Output)
+            .map(|v| (v.vr, v.kind))
+            .collect();
+        for (vr, kind) in settable {
+            match kind {
+                VariableKind::Real => {
+                    let mut x = [0.0];
+                    self.scene.get_real(vr, &mut x)?;
+                    fresh.set_real(vr, &x)?;
+                }
+                VariableKind::String => fresh.set_string(vr, &self.scene.get_string(vr)?)?,
+            }
+        }
+        self.scene = fresh;
+        self.built = false;
+        Ok(())
+    }
+
+    /// Leaves Initialization Mode, building the scene if no build is current.
+    pub fn exit_initialization(&mut self) -> Status {
+        match self.build() {
+            Status::Ok => {
+                self.phase = Phase::Step;
+                Status::Ok
+            }
+            s => s,
         }
     }
 
     /// Advances to exactly `current + h`.
     pub fn do_step(&mut self, current: f64, h: f64) -> Status {
         if !(h.is_finite() && h > 0.0) {
-            return self.error(
-                Status::Error,
-                &format!("communication step size {h} must be finite and > 0"),
-            );
+            let message = format!("communication step size {h} must be finite and > 0");
+            return self.error(Status::Error, &message);
         }
         let tolerance = 1e-9 * current.abs().max(h).max(1.0);
         if (current - self.time).abs() > tolerance {
-            return self.error(
-                Status::Error,
-                &format!(
-                    "currentCommunicationPoint {current} does not match the instance time {}",
-                    self.time
-                ),
+            let message = format!(
+                "currentCommunicationPoint {current} does not match the instance time {}",
+                self.time
             );
+            return self.error(Status::Error, &message);
         }
         match self.scene.do_step(current, h) {
             Ok(()) => {
@@ -303,11 +385,11 @@ impl Instance {
 
     /// Back to the state after instantiation: a fresh scene with start values.
     pub fn reset(&mut self) -> Status {
-        self.scene = (self.model.create)();
-        if let Some(dir) = &self.resources {
-            self.scene.set_resource_dir(dir);
-        }
+        self.scene = scene_for(self.model, self.resources.as_deref());
         self.phase = Phase::Instantiated;
+        self.built = false;
+        self.failure = None;
+        self.start_time = 0.0;
         self.time = 0.0;
         Status::Ok
     }
@@ -316,241 +398,397 @@ impl Instance {
         self.scene.variables().get(vr as usize)
     }
 
-    /// Resolves references to (scene vr, element index, value count) per reference.
-    fn resolve(
-        &self,
-        addressing: Addressing,
-        vrs: &[u32],
-    ) -> Result<Vec<(u32, usize, usize)>, String> {
+    /// Resolves references: FMI 2 one scalar each, FMI 3 one variable (or `time`) each.
+    fn resolve(&self, vrs: &[u32]) -> Result<Vec<Resolved>, String> {
+        let time = time_vr(self.scene.variables());
         vrs.iter()
-            .map(|&vr| match addressing {
-                Addressing::Scalars => self
-                    .scalars
-                    .get(vr as usize)
-                    .map(|s| (s.scene_vr, s.index, 1))
-                    .ok_or_else(|| format!("unknown value reference {vr}")),
-                Addressing::Arrays if vr == time_vr(self.scene.variables()) => Ok((vr, 0, 1)),
-                Addressing::Arrays => self
-                    .variable(vr)
-                    .map(|v| (vr, 0, v.len))
-                    .ok_or_else(|| format!("unknown value reference {vr}")),
+            .map(|&vr| {
+                let resolved = match self.version {
+                    Version::Fmi2 => self.scalars.get(vr as usize).map(|s| Resolved {
+                        vr: s.scene_vr,
+                        index: s.index,
+                        len: 1,
+                    }),
+                    Version::Fmi3 if vr == time => Some(Resolved {
+                        vr,
+                        index: 0,
+                        len: 1,
+                    }),
+                    Version::Fmi3 => self.variable(vr).map(|v| Resolved {
+                        vr,
+                        index: 0,
+                        len: v.len,
+                    }),
+                };
+                resolved.ok_or_else(|| format!("unknown value reference {vr}"))
             })
             .collect()
     }
 
-    /// Resolved references whose value counts add up to `n_values`; logs and returns Error
-    /// otherwise.
-    fn references(
-        &self,
-        addressing: Addressing,
-        vrs: &[u32],
-        n_values: usize,
-    ) -> Result<Vec<(u32, usize, usize)>, Status> {
-        let refs = self
-            .resolve(addressing, vrs)
-            .map_err(|m| self.error(Status::Error, &m))?;
-        let needed: usize = refs.iter().map(|r| r.2).sum();
+    /// Resolved references whose value counts add up to `n_values`; queues a message and
+    /// returns Error otherwise.
+    fn references(&mut self, vrs: &[u32], n_values: usize) -> Result<Vec<Resolved>, Status> {
+        let refs = match self.resolve(vrs) {
+            Ok(r) => r,
+            Err(m) => return Err(self.error(Status::Error, &m)),
+        };
+        let needed: usize = refs.iter().map(|r| r.len).sum();
         if needed != n_values {
-            return Err(self.error(
-                Status::Error,
-                &format!("{n_values} values given for {needed} expected"),
-            ));
+            let message = format!("{n_values} values given for {needed} expected");
+            return Err(self.error(Status::Error, &message));
         }
         Ok(refs)
     }
 
-    /// Sets real values.
-    pub fn set_reals(&mut self, addressing: Addressing, vrs: &[u32], values: &[f64]) -> Status {
-        let refs = match self.references(addressing, vrs, values.len()) {
+    /// The name of a resolved reference as the model description spells it.
+    fn name_of(&self, r: Resolved) -> String {
+        match self.variable(r.vr) {
+            Some(v) if v.len > 1 && self.version == Version::Fmi2 => {
+                format!("{}[{}]", v.name, r.index)
+            }
+            Some(v) => v.name.clone(),
+            None => "time".into(),
+        }
+    }
+
+    /// Why a resolved reference cannot be set at all, if it cannot.
+    fn unsettable(&self, r: Resolved) -> Option<String> {
+        let name = self.name_of(r);
+        match self.variable(r.vr) {
+            None => Some("the independent variable `time` cannot be set".into()),
+            Some(v) if v.causality == Causality::Output => {
+                Some(format!("`{name}` is an output and cannot be set"))
+            }
+            _ => None,
+        }
+    }
+
+    /// Sets real values; all or none.
+    pub fn set_reals(&mut self, vrs: &[u32], values: &[f64]) -> Status {
+        let refs = match self.references(vrs, values.len()) {
             Ok(r) => r,
             Err(s) => return s,
         };
-        let mut at = 0;
-        for (vr, index, n) in refs {
-            if vr == time_vr(self.scene.variables()) {
-                return self.error(
-                    Status::Error,
-                    "the independent variable `time` cannot be set",
-                );
-            }
-            let result = if index > 0 || self.variable(vr).is_some_and(|v| v.len != n) {
-                Err(SceneError::NotSettable {
-                    name: self
-                        .scalars
-                        .iter()
-                        .find(|s| s.scene_vr == vr)
-                        .map_or(String::new(), |s| s.name.clone()),
-                    reason: "array elements are outputs",
-                })
-            } else {
-                self.scene.set_real(vr, &values[at..at + n])
-            };
-            if let Err(e) = result {
-                return self.fail(&e);
-            }
-            at += n;
+        if let Some(m) = refs.iter().find_map(|&r| self.unsettable(r)) {
+            return self.error(Status::Error, &m);
         }
-        Status::Ok
+        let mut at = 0;
+        let items: Vec<(u32, &[f64])> = refs
+            .iter()
+            .map(|r| {
+                at += r.len;
+                (r.vr, &values[at - r.len..at])
+            })
+            .collect();
+        let result = self.apply(
+            &items,
+            |scene, vr| {
+                let mut old = vec![0.0; scene.variables()[vr as usize].len];
+                scene.get_real(vr, &mut old).map(|()| old)
+            },
+            |scene, vr, x: &[f64]| scene.set_real(vr, x),
+        );
+        match result {
+            Ok(()) => Status::Ok,
+            Err(e) => self.fail(&e),
+        }
+    }
+
+    /// Sets string parameters; all or none.
+    pub fn set_strings(&mut self, vrs: &[u32], values: &[String]) -> Status {
+        let refs = match self.references(vrs, values.len()) {
+            Ok(r) => r,
+            Err(s) => return s,
+        };
+        if let Some(m) = refs.iter().find_map(|&r| self.unsettable(r)) {
+            return self.error(Status::Error, &m);
+        }
+        let items: Vec<(u32, &str)> = refs
+            .iter()
+            .zip(values)
+            .map(|(r, v)| (r.vr, v.as_str()))
+            .collect();
+        let result = self.apply(
+            &items,
+            |scene, vr| scene.get_string(vr),
+            |scene, vr, s: &str| scene.set_string(vr, s),
+        );
+        match result {
+            Ok(()) => Status::Ok,
+            Err(e) => self.fail(&e),
+        }
+    }
+
+    /// Sets `items` in order; if one is refused, restores the ones set before it (in reverse
+    /// order, each to the value `read` gave before the call) and returns the refusal.
+    fn apply<T: ?Sized, Old: std::borrow::Borrow<T>>(
+        &mut self,
+        items: &[(u32, &T)],
+        read: impl Fn(&mut dyn Scene, u32) -> Result<Old, SceneError>,
+        write: impl Fn(&mut dyn Scene, u32, &T) -> Result<(), SceneError>,
+    ) -> Result<(), SceneError> {
+        if items.is_empty() {
+            return Ok(());
+        }
+        self.unbuild()?;
+        let old = items
+            .iter()
+            .map(|&(vr, _)| read(self.scene.as_mut(), vr))
+            .collect::<Result<Vec<_>, _>>()?;
+        for (k, &(vr, value)) in items.iter().enumerate() {
+            if let Err(e) = write(self.scene.as_mut(), vr, value) {
+                for (&(vr, _), previous) in items[..k].iter().zip(&old).rev() {
+                    // Restores a value this scene held a moment ago.
+                    let _ = write(self.scene.as_mut(), vr, previous.borrow());
+                }
+                return Err(e);
+            }
+        }
+        Ok(())
+    }
+
+    /// Builds the scene in Initialization Mode before an output is read.
+    fn ready_for(&mut self, refs: &[Resolved]) -> Status {
+        let outputs = refs.iter().any(|r| {
+            self.variable(r.vr)
+                .is_some_and(|v| v.causality == Causality::Output)
+        });
+        if self.phase == Phase::Initialization && outputs {
+            self.build()
+        } else {
+            Status::Ok
+        }
     }
 
     /// Gets real values (outputs are computed on the first request after a step).
-    pub fn get_reals(&mut self, addressing: Addressing, vrs: &[u32], values: &mut [f64]) -> Status {
-        let refs = match self.references(addressing, vrs, values.len()) {
+    pub fn get_reals(&mut self, vrs: &[u32], values: &mut [f64]) -> Status {
+        let refs = match self.references(vrs, values.len()) {
             Ok(r) => r,
             Err(s) => return s,
         };
+        if let s @ (Status::Error | Status::Fatal) = self.ready_for(&refs) {
+            return s;
+        }
         let mut at = 0;
-        for (vr, index, n) in refs {
-            if vr == time_vr(self.scene.variables()) {
+        for r in refs {
+            let Some(len) = self.variable(r.vr).map(|v| v.len) else {
                 values[at] = self.time;
                 at += 1;
                 continue;
-            }
-            let Some(len) = self.variable(vr).map(|v| v.len) else {
-                return self.error(Status::Error, &format!("unknown value reference {vr}"));
             };
-            if self.phase == Phase::Initialization
-                && self
-                    .variable(vr)
-                    .is_some_and(|v| v.causality == Causality::Output)
-            {
-                return self.error(Status::Error, "outputs are available after initialization (fmi2ExitInitializationMode / fmi3ExitInitializationMode)");
-            }
             self.buffer.resize(len, 0.0);
-            if let Err(e) = self.scene.get_real(vr, &mut self.buffer) {
+            if let Err(e) = self.scene.get_real(r.vr, &mut self.buffer) {
                 return self.fail(&e);
             }
-            values[at..at + n].copy_from_slice(&self.buffer[index..index + n]);
-            at += n;
-        }
-        Status::Ok
-    }
-
-    /// Sets string parameters.
-    pub fn set_strings(
-        &mut self,
-        addressing: Addressing,
-        vrs: &[u32],
-        values: &[String],
-    ) -> Status {
-        let refs = match self.resolve(addressing, vrs) {
-            Ok(r) => r,
-            Err(m) => return self.error(Status::Error, &m),
-        };
-        for ((vr, _, _), value) in refs.into_iter().zip(values) {
-            if let Err(e) = self.scene.set_string(vr, value) {
-                return self.fail(&e);
-            }
+            values[at..at + r.len].copy_from_slice(&self.buffer[r.index..r.index + r.len]);
+            at += r.len;
         }
         Status::Ok
     }
 
     /// Gets string variables; the returned C strings stay valid until the next call.
-    pub fn get_strings(
-        &mut self,
-        addressing: Addressing,
-        vrs: &[u32],
-    ) -> Result<&[CString], Status> {
-        let refs = self
-            .resolve(addressing, vrs)
-            .map_err(|m| self.error(Status::Error, &m))?;
+    pub fn get_strings(&mut self, vrs: &[u32]) -> Result<&[CString], Status> {
+        let refs = self.references(vrs, vrs.len())?;
         self.strings.clear();
-        for (vr, _, _) in refs {
-            let kind = self.variable(vr).map(|v| v.kind);
-            if kind != Some(VariableKind::String) {
-                return Err(self.error(
-                    Status::Error,
-                    &format!("value reference {vr} is not a string"),
-                ));
+        for r in refs {
+            if self.variable(r.vr).map(|v| v.kind) != Some(VariableKind::String) {
+                let message = format!("`{}` is not a string", self.name_of(r));
+                return Err(self.error(Status::Error, &message));
             }
-            let s = self.scene.get_string(vr).map_err(|e| self.fail(&e))?;
+            let s = match self.scene.get_string(r.vr) {
+                Ok(s) => s,
+                Err(e) => return Err(self.fail(&e)),
+            };
             self.strings.push(CString::new(s).unwrap_or_default());
         }
         Ok(&self.strings)
     }
 }
 
+/// A scene of `model` with start values, pointed at its resources.
+fn scene_for(model: &Model, resources: Option<&std::path::Path>) -> Box<dyn Scene> {
+    let mut scene = (model.create)();
+    if let Some(dir) = resources {
+        scene.set_resource_dir(dir);
+    }
+    scene
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::sync::{Arc, Mutex};
+    use crate::model::MODELS;
 
-    type Lines = Arc<Mutex<Vec<(Status, String, String)>>>;
+    /// A cut-block instance of `version` and the value references of its variables by name.
+    fn instance(version: Version, log_calls: bool) -> (Instance, impl Fn(&str) -> u32) {
+        let token = MODELS[1].token();
+        let i = Instance::create(version, Some(&token), "t", None, ffi_silent(), log_calls);
+        let scene = (MODELS[1].create)();
+        let names: Vec<String> = match version {
+            Version::Fmi2 => fmi2_scalars(scene.variables())
+                .into_iter()
+                .map(|s| s.name)
+                .collect(),
+            Version::Fmi3 => scene.variables().iter().map(|v| v.name.clone()).collect(),
+        };
+        let vr = move |name: &str| names.iter().position(|n| n == name).unwrap() as u32;
+        (i.unwrap(), vr)
+    }
 
-    fn instance(log_calls: bool) -> (Instance, Lines) {
-        let lines: Lines = Arc::default();
-        let sink = lines.clone();
-        let log: Log = Box::new(move |s, c, m| sink.lock().unwrap().push((s, c.into(), m.into())));
-        let token = crate::model::MODELS[1].token();
-        (
-            Instance::create(Some(&token), "t", None, log, log_calls).unwrap(),
-            lines,
-        )
+    fn ffi_silent() -> Log {
+        Arc::new(|_, _, _| {})
+    }
+
+    fn texts(i: &mut Instance) -> Vec<String> {
+        i.take_messages().into_iter().map(|m| m.2).collect()
+    }
+
+    const SMALL: [(&str, f64); 3] = [("cells_x", 2.0), ("cells_y", 4.0), ("cells_z", 3.0)];
+
+    fn small(i: &mut Instance, vr: &impl Fn(&str) -> u32) {
+        let vrs: Vec<u32> = SMALL.iter().map(|(n, _)| vr(n)).collect();
+        let values: Vec<f64> = SMALL.iter().map(|p| p.1).collect();
+        assert_eq!(i.set_reals(&vrs, &values), Status::Ok);
+    }
+
+    #[test]
+    fn errors_are_queued_with_the_variable_and_calls_only_when_asked() {
+        let (mut i, vr) = instance(Version::Fmi3, false);
+        assert_eq!(i.set_reals(&[vr("nu")], &[0.5]), Status::Error);
+        assert!(i.check(Call::DoStep, "fmi3DoStep").is_err());
+        let logged = i.take_messages();
+        assert_eq!(logged.len(), 2);
+        assert!(logged
+            .iter()
+            .all(|(s, c, _)| *s == Status::Error && *c == "logStatusError"));
+        assert!(logged[0].2.contains("`nu`"), "{:?}", logged[0]);
+        assert!(logged[1]
+            .2
+            .contains("fmi3DoStep is not allowed in phase Instantiated"));
+        // Call logging: off by default, on by category.
+        assert_eq!(i.set_debug_logging(true, &["logCalls".into()]), Status::Ok);
+        i.check(Call::Set, "fmi3SetFloat64").unwrap();
+        assert_eq!(i.take_messages()[0].1, "logCalls");
+        assert_eq!(
+            i.set_debug_logging(true, &["logStatusError".into()]),
+            Status::Ok
+        );
+        i.check(Call::Set, "fmi3SetFloat64").unwrap();
+        assert!(i.take_messages().is_empty(), "logCalls not enabled");
+        assert_eq!(
+            i.set_debug_logging(true, &["logEverything".into()]),
+            Status::Error
+        );
     }
 
     #[test]
     fn runtime_failures_and_configuration_errors_are_named_as_such() {
-        let (mut i, lines) = instance(false);
-        let vr = |i: &Instance, name: &str| i.scene.lookup(name).unwrap();
-        let support = vr(&i, "support");
+        let (mut i, vr) = instance(Version::Fmi3, false);
         assert_eq!(
-            i.set_strings(Addressing::Arrays, &[support], &["glued".into()]),
+            i.set_strings(&[vr("support")], &["glued".into()]),
             Status::Error
         );
-        let (cells_x, depth) = (vr(&i, "cells_x"), vr(&i, "cut_depth"));
-        i.set_reals(Addressing::Arrays, &[cells_x, depth], &[2.0, 17.0]);
+        i.set_reals(&[vr("cells_x"), vr("cut_depth")], &[2.0, 17.0]);
         i.enter_initialization();
         assert_eq!(i.exit_initialization(), Status::Ok);
-        let (pull, scalpel) = (vr(&i, "pull"), vr(&i, "scalpel_x"));
-        i.set_reals(Addressing::Arrays, &[pull, scalpel], &[1.0, 100.0]);
+        i.set_reals(&[vr("pull"), vr("scalpel_x")], &[1.0, 100.0]);
         assert_eq!(i.do_step(0.0, 1.0), Status::Error);
-        let logged = lines.lock().unwrap().clone();
+        let logged = texts(&mut i);
         assert!(
-            logged[0]
-                .2
-                .starts_with("invalid configuration: support `glued`"),
-            "{:?}",
-            logged[0]
+            logged[0].starts_with("invalid configuration: support `glued`"),
+            "{logged:?}"
         );
-        let last = &logged.last().unwrap().2;
+        let last = logged.last().unwrap();
         assert!(
             last.starts_with("runtime failure: the cut separates the block"),
             "{last}"
         );
     }
 
+    /// Outputs read in Initialization Mode equal those after the exit; a value set after a
+    /// read is taken into account by the next read; the exit builds only when no build is
+    /// current.
     #[test]
-    fn errors_are_logged_with_the_variable_and_calls_only_when_asked() {
-        let (mut i, lines) = instance(false);
-        let nu = i.scene.lookup("nu").unwrap();
+    fn initialization_mode_builds_on_demand_and_exit_does_not_build_again() {
+        for version in [Version::Fmi2, Version::Fmi3] {
+            let (mut i, vr) = instance(version, true);
+            small(&mut i, &vr);
+            i.enter_initialization();
+            let mut force = [0.0];
+            assert_eq!(i.set_reals(&[vr("pull")], &[2.0]), Status::Ok);
+            assert_eq!(i.get_reals(&[vr("reaction_force")], &mut force), Status::Ok);
+            assert!(force[0] > 0.0);
+            // A fixed parameter and an input set after the read: the next read rebuilds.
+            assert_eq!(
+                i.set_reals(&[vr("E"), vr("pull")], &[0.077, 4.0]),
+                Status::Ok
+            );
+            let mut again = [0.0];
+            assert_eq!(i.get_reals(&[vr("reaction_force")], &mut again), Status::Ok);
+            let ratio = again[0] / force[0];
+            assert!((ratio - 4.0).abs() < 1e-9, "2 × E, 2 × pull: {ratio}");
+            assert_eq!(i.exit_initialization(), Status::Ok);
+            let mut after = [0.0];
+            assert_eq!(i.get_reals(&[vr("reaction_force")], &mut after), Status::Ok);
+            assert_eq!(after[0].to_bits(), again[0].to_bits());
+            let builds = texts(&mut i)
+                .iter()
+                .filter(|m| m.starts_with("building the model"))
+                .count();
+            assert_eq!(
+                builds, 2,
+                "{version:?}: two reads with a set between, no third"
+            );
+        }
+    }
+
+    #[test]
+    fn a_failed_initialization_names_itself_in_later_reads() {
+        let (mut i, vr) = instance(Version::Fmi2, false);
+        assert_eq!(i.set_reals(&[vr("y_cut")], &[80.0]), Status::Ok);
+        i.enter_initialization();
+        let mut x = [0.0];
+        assert_eq!(i.get_reals(&[vr("reaction_force")], &mut x), Status::Error);
+        assert_eq!(i.phase(), Phase::Error);
+        i.take_messages();
+        assert_eq!(i.get_reals(&[vr("bottom_lift")], &mut x), Status::Error);
+        let m = texts(&mut i).pop().unwrap();
+        assert!(
+            m.contains("`bottom_lift` is not available")
+                && m.contains("the initialization failed: invalid configuration: y_cut = 80"),
+            "{m}"
+        );
+    }
+
+    /// A set of several values is all or nothing, in every phase.
+    #[test]
+    fn a_refused_value_leaves_every_value_of_the_call_unchanged() {
+        let (mut i, vr) = instance(Version::Fmi3, false);
+        let read = |i: &mut Instance, names: &[&str]| {
+            let vrs: Vec<u32> = names.iter().map(|n| vr(n)).collect();
+            let mut x = vec![0.0; vrs.len()];
+            assert_eq!(i.get_reals(&vrs, &mut x), Status::Ok);
+            x
+        };
+        let names = ["E", "pull", "nu"];
+        let before = read(&mut i, &names);
+        let vrs: Vec<u32> = names.iter().map(|n| vr(n)).collect();
+        assert_eq!(i.set_reals(&vrs, &[0.05, 3.0, 0.7]), Status::Error);
+        assert_eq!(read(&mut i, &names), before);
+        let strings = [vr("cut_strategy"), vr("support")];
         assert_eq!(
-            i.set_reals(Addressing::Arrays, &[nu], &[0.5]),
+            i.set_strings(&strings, &["delete".into(), "glued".into()]),
             Status::Error
         );
-        assert!(i.check(Call::DoStep, "fmi2DoStep").is_err());
-        let logged = lines.lock().unwrap().clone();
-        assert_eq!(logged.len(), 2);
-        assert!(logged
-            .iter()
-            .all(|(s, c, _)| *s == Status::Error && c == "logStatusError"));
-        assert!(logged[0].2.contains("`nu`"), "{:?}", logged[0]);
-        assert!(logged[1]
-            .2
-            .contains("fmi2DoStep is not allowed in phase Instantiated"));
-        // Call logging: off by default, on by category.
-        assert_eq!(i.set_debug_logging(true, &["logCalls".into()]), Status::Ok);
-        i.check(Call::Set, "fmi2SetReal").unwrap();
-        assert_eq!(lines.lock().unwrap().last().unwrap().1, "logCalls");
+        assert_eq!(i.scene.get_string(vr("cut_strategy")).unwrap(), "duplicate");
+        // An output among the values: refused before anything is set.
         assert_eq!(
-            i.set_debug_logging(true, &["logStatusError".into()]),
-            Status::Ok
-        );
-        let before = lines.lock().unwrap().len();
-        i.check(Call::Set, "fmi2SetReal").unwrap();
-        assert_eq!(lines.lock().unwrap().len(), before, "logCalls not enabled");
-        assert_eq!(
-            i.set_debug_logging(true, &["logEverything".into()]),
+            i.set_reals(&[vr("E"), vr("reaction_force")], &[0.05, 1.0]),
             Status::Error
         );
+        assert_eq!(read(&mut i, &["E"]), [before[0]]);
+        // No references: nothing to do, and fine.
+        assert_eq!(i.set_reals(&[], &[]), Status::Ok);
+        assert_eq!(i.get_reals(&[], &mut []), Status::Ok);
     }
 }

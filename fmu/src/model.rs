@@ -4,7 +4,24 @@
 
 use models::scene::abdomen::Abdomen;
 use models::scene::cutblock::CutBlock;
-use models::scene::Scene;
+use models::scene::{Scene, Variable};
+
+/// The FMI versions every model is exported in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Version {
+    Fmi2,
+    Fmi3,
+}
+
+impl Version {
+    /// `fmi2` or `fmi3`, as in file and function names.
+    pub fn tag(self) -> &'static str {
+        match self {
+            Version::Fmi2 => "fmi2",
+            Version::Fmi3 => "fmi3",
+        }
+    }
+}
 
 /// One exported model.
 #[derive(Debug, Clone, Copy)]
@@ -41,30 +58,35 @@ impl Model {
         MODELS.iter().find(|m| m.token() == token)
     }
 
-    /// A deterministic token: FNV-1a over the identifier and every variable's name, kind,
-    /// causality, variability and length, formatted like a GUID.
+    /// The token of this model's variable table in this build.
     pub fn token(&self) -> String {
-        let scene = (self.create)();
-        let mut text = String::from(self.identifier);
-        for v in scene.variables() {
-            text.push_str(&format!(
-                "|{}:{:?}:{:?}:{:?}:{}",
-                v.name, v.kind, v.causality, v.variability, v.len
-            ));
-        }
-        let hash = |seed: u64| {
-            text.bytes().fold(seed, |h, b| {
-                (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
-            })
-        };
-        let (a, b) = (hash(0xcbf2_9ce4_8422_2325), hash(0x8422_2325_cbf2_9ce4));
-        format!(
-            "{{{:08x}-{:04x}-{:04x}-{:04x}-{:012x}}}",
-            a >> 32,
-            (a >> 16) & 0xffff,
-            a & 0xffff,
-            b >> 48,
-            b & 0xffff_ffff_ffff
-        )
+        token(self.identifier, (self.create)().variables())
     }
+}
+
+/// A deterministic token, formatted like a GUID: FNV-1a over the identifier, the build
+/// (crate version and commit, see `build.rs`) and every field of every variable (name,
+/// reference, causality, variability, kind, length, unit, start, range, description), so
+/// that a description from another build or with other start values, ranges or units is
+/// refused at instantiation.
+pub fn token(identifier: &str, variables: &[Variable]) -> String {
+    let text = format!(
+        "{identifier}|{}|{}|{variables:?}",
+        env!("CARGO_PKG_VERSION"),
+        env!("TISSUEFMU_COMMIT")
+    );
+    let hash = |seed: u64| {
+        text.bytes().fold(seed, |h, b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+        })
+    };
+    let (a, b) = (hash(0xcbf2_9ce4_8422_2325), hash(0x8422_2325_cbf2_9ce4));
+    format!(
+        "{{{:08x}-{:04x}-{:04x}-{:04x}-{:012x}}}",
+        a >> 32,
+        (a >> 16) & 0xffff,
+        a & 0xffff,
+        b >> 48,
+        b & 0xffff_ffff_ffff
+    )
 }

@@ -71,7 +71,7 @@ fn outputs_equal_the_in_process_scene_to_the_last_bit() {
     for (n, v) in SMALL {
         scene.set(n, v).unwrap();
     }
-    scene.initialize().unwrap();
+    scene.initialize(0.0).unwrap();
     let names = [
         "reaction_force",
         "cut_opening",
@@ -215,18 +215,32 @@ fn reset_returns_to_the_start_values() {
     unsafe { fmi2FreeInstance(c) };
 }
 
+/// A million steps of 2⁻¹⁰ s land on t = 1024 s exactly (a binary fraction: no rounding
+/// anywhere), and a million steps on fmpy's grid t_k = k · 10⁻³ s with h_k = t_{k+1} − t_k
+/// are all accepted and end within one ulp of 1000 s.
 #[test]
 fn a_million_steps_land_exactly_on_the_communication_points() {
     let c = initialized();
-    let h = 1e-3;
-    let mut t = 0.0;
-    for _ in 0..1_000_000 {
-        assert_eq!(unsafe { fmi2DoStep(c, t, h, 1) }, OK);
-        t += h; // the importer's clock
+    let h = 1.0 / 1024.0;
+    for k in 0..1_048_576u32 {
+        assert_eq!(unsafe { fmi2DoStep(c, f64::from(k) * h, h, 1) }, OK);
     }
     let mut last = 0.0;
     unsafe { fmi2GetRealStatus(c, 2, &mut last) };
-    assert_eq!(last, t, "instance time equals the importer's sum exactly");
+    assert_eq!(last, 1024.0);
+    unsafe { fmi2FreeInstance(c) };
+
+    let c = initialized();
+    let t = |k: u32| f64::from(k) * 1e-3;
+    for k in 0..1_000_000u32 {
+        assert_eq!(
+            unsafe { fmi2DoStep(c, t(k), t(k + 1) - t(k), 1) },
+            OK,
+            "{k}"
+        );
+    }
+    unsafe { fmi2GetRealStatus(c, 2, &mut last) };
+    assert!((last - 1000.0).abs() <= 1000.0 * f64::EPSILON, "{last}");
     unsafe { fmi2FreeInstance(c) };
 }
 
@@ -331,4 +345,57 @@ fn random_call_sequences_never_crash() {
         assert!((0..=4).contains(&status), "status {status}");
     }
     unsafe { fmi2FreeInstance(c) };
+}
+
+static ALLOCATIONS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+unsafe extern "C" fn counting_allocate(_n: usize, _size: usize) -> *mut std::ffi::c_void {
+    ALLOCATIONS.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+    null_mut()
+}
+
+/// Every capability flag of the FMI 2 description holds: variable communication steps
+/// work; FMU state, which the description declares absent, is refused; and the importer's
+/// memory functions are never called (`canNotUseMemoryManagementFunctions="true"`).
+#[test]
+fn capability_flags_are_honoured() {
+    let xml = fmu::xml::fmi2(&MODELS[1]);
+    for (flag, value) in [
+        ("canHandleVariableCommunicationStepSize", true),
+        ("canNotUseMemoryManagementFunctions", true),
+        ("canGetAndSetFMUstate", false),
+        ("canSerializeFMUstate", false),
+    ] {
+        assert!(xml.contains(&format!(r#"{flag}="{value}""#)), "{flag}");
+    }
+    let functions = fmi2CallbackFunctions {
+        logger: None,
+        allocateMemory: Some(counting_allocate),
+        freeMemory: None,
+        stepFinished: None,
+        componentEnvironment: null_mut(),
+    };
+    let name = CString::new("flags").unwrap();
+    let guid = cutblock_guid();
+    let c = unsafe { fmi2Instantiate(name.as_ptr(), 1, guid.as_ptr(), null(), &functions, 0, 0) };
+    assert!(!c.is_null());
+    unsafe {
+        for (n, v) in SMALL {
+            assert_eq!(set(c, n, v), OK);
+        }
+        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), OK);
+        assert_eq!(fmi2EnterInitializationMode(c), OK);
+        assert_eq!(fmi2ExitInitializationMode(c), OK);
+        let mut t = 0.0;
+        for h in [0.1, 0.35, 1e-3, 2.0] {
+            assert_eq!(fmi2DoStep(c, t, h, 1), OK, "h = {h}");
+            t += h;
+        }
+        let mut state: fmi2FMUstate = null_mut();
+        assert_eq!(fmi2GetFMUstate(c, &mut state), ERROR);
+        let mut size = 0;
+        assert_eq!(fmi2SerializedFMUstateSize(c, state, &mut size), ERROR);
+        fmi2FreeInstance(c);
+    }
+    assert_eq!(ALLOCATIONS.load(std::sync::atomic::Ordering::SeqCst), 0);
 }

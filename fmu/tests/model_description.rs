@@ -60,8 +60,32 @@ fn fmi3_description_uses_scene_references_and_arrays() {
     }
 }
 
+/// The token covers every field of the variable table: a description whose start values,
+/// ranges, units or descriptions differ from the binary's gets another token, and the
+/// generated descriptions carry the token the binary accepts.
 #[test]
-fn tokens_differ_between_models_and_are_stable() {
+fn tokens_cover_the_whole_variable_table_and_the_descriptions_carry_them() {
     assert_ne!(MODELS[0].token(), MODELS[1].token());
-    assert_eq!(MODELS[0].token(), MODELS[0].token());
+    let scene = (MODELS[1].create)();
+    let table = scene.variables().to_vec();
+    let base = fmu::model::token("cutblock", &table);
+    assert_eq!(base, MODELS[1].token());
+    let nu = table.iter().position(|v| v.name == "nu").unwrap();
+    let changes: [fn(&mut models::scene::Variable); 5] = [
+        |v| v.start = models::scene::Start::Real(0.3),
+        |v| v.max = 0.49,
+        |v| v.min = 0.0,
+        |v| v.unit = "MPa",
+        |v| v.description.push('.'),
+    ];
+    for (k, change) in changes.iter().enumerate() {
+        let mut changed = table.clone();
+        change(&mut changed[nu]);
+        assert_ne!(fmu::model::token("cutblock", &changed), base, "change {k}");
+    }
+    for model in &MODELS {
+        let token = model.token();
+        assert!(xml::fmi2(model).contains(&format!("guid=\"{token}\"")));
+        assert!(xml::fmi3(model).contains(&format!("instantiationToken=\"{token}\"")));
+    }
 }

@@ -67,16 +67,16 @@ def run_case(fmu, plan, case):
         if status >= 3:  # fmi2Error, fmi2Fatal
             messages.append(message.decode() if isinstance(message, bytes) else str(message))
 
-    steps = round(plan["stop_time"] / plan["step"])
+    start, step = plan["start_time"], plan["step"]
+    steps = round((plan["stop_time"] - start) / step)
     inputs = plan["inputs"]
     table = None
     if inputs:
-        # One row per communication point, so fmpy applies exactly the harness's values.
+        # One row per communication point t_k = start + k step (the harness's and fmpy's
+        # formula), so fmpy applies exactly the harness's values.
         names = list(inputs)
-        rows = [
-            tuple([k * plan["step"]] + [input_at(inputs[n], k * plan["step"]) for n in names])
-            for k in range(steps + 1)
-        ]
+        times = [start + k * step for k in range(steps + 1)]
+        rows = [tuple([t] + [input_at(inputs[n], t) for n in names]) for t in times]
         table = np.array(rows, dtype=[("time", float)] + [(n, float) for n in names])
     unzipped = _unzipped(fmu)
     try:
@@ -87,6 +87,7 @@ def run_case(fmu, plan, case):
             start_values=case["settings"],
             input=table,
             output=plan["record"],
+            start_time=start,
             stop_time=plan["stop_time"],
             output_interval=plan["step"],
             logger=logger,

@@ -81,6 +81,9 @@ enum Command {
     Simulate {
         /// The scene: abdomen or cutblock
         scene: String,
+        /// Start time (s)
+        #[arg(long, default_value_t = 0.0)]
+        start_time: f64,
         /// Stop time (s)
         #[arg(long)]
         stop_time: f64,
@@ -142,6 +145,7 @@ fn run(cli: Cli) -> Result<Option<PathBuf>> {
         Command::Fields { out } => report::write(&out, "Fields", fields::section)?,
         Command::Simulate {
             scene,
+            start_time,
             stop_time,
             step,
             set,
@@ -151,6 +155,7 @@ fn run(cli: Cli) -> Result<Option<PathBuf>> {
         } => {
             return series::command(&series::Request {
                 scene: &scene,
+                start_time,
                 stop_time,
                 step,
                 set: &set,

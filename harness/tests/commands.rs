@@ -5,6 +5,7 @@ use std::path::Path;
 use std::process::Command;
 
 use harness::sweep::Experiment;
+use models::scene::Scene;
 
 fn harness(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_harness"))
@@ -43,7 +44,16 @@ fn fields_writes_the_stress_map_and_both_vtu_files() {
 fn identify_fits_a_force_file_at_a_given_nu_and_refuses_a_bad_one() {
     let tmp = tempfile::tempdir().unwrap();
     let forces = tmp.path().join("f.csv");
-    // Forces of a linear material: the fit's residual must vanish.
+    // Forces proportional to the pull: the model's force is E · g · d, with g the reaction
+    // of the fully cut default block at E = 1 MPa, ν = 0.45 and 1 mm pull, so E = 0.8 / g.
+    let mut block = models::scene::cutblock::CutBlock::new();
+    block.set("E", 1.0).unwrap();
+    block.set("nu", 0.45).unwrap();
+    block.initialize(0.0).unwrap();
+    block.set("scalpel_x", 100.0).unwrap();
+    block.set("pull", 1.0).unwrap();
+    block.do_step(0.0, 1.0).unwrap();
+    let expected = 0.8 / block.get("reaction_force").unwrap();
     let mut text = String::from("displacement_mm,force_N\n");
     for d in 0..=5 {
         text += &format!("{d},{}\n", 0.8 * f64::from(d));
@@ -60,7 +70,13 @@ fn identify_fits_a_force_file_at_a_given_nu_and_refuses_a_bad_one() {
     let o = harness(&[&args[..], &["--out", out.to_str().unwrap()]].concat());
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(stdout.contains("Force RMS residual 0.0000 N"), "{stdout}");
+    let fitted = stdout
+        .split("E from the forces at that ν: **")
+        .nth(1)
+        .and_then(|rest| rest.split_whitespace().next())
+        .and_then(|e| e.parse::<f64>().ok())
+        .unwrap_or_else(|| panic!("no E in {stdout}"));
+    assert!((fitted - expected).abs() < 1e-5, "E {fitted} vs {expected}");
     assert_files(&out, &["force_displacement.png", "force_displacement.svg"]);
 
     std::fs::write(&forces, "displacement_mm,force_N\n1,abc\n").unwrap();

@@ -96,44 +96,62 @@ fn same_case_files(tmp: &tempfile::TempDir, n: usize) {
 }
 
 #[test]
-fn cut_block_through_the_fmu_equals_in_process_bit_for_bit() {
-    let (here, there, tmp) = run_both(CUTBLOCK, "cutblock-fmi2.fmu");
-    assert_eq!(here.len(), 4);
-    assert!(here.iter().all(|o| matches!(o, Outcome::Finished { .. })));
-    assert_eq!(here, there);
-    same_case_files(&tmp, 4);
+fn cut_block_through_both_fmus_equals_in_process_bit_for_bit() {
+    for file in ["cutblock-fmi2.fmu", "cutblock-fmi3.fmu"] {
+        let (here, there, tmp) = run_both(CUTBLOCK, file);
+        assert_eq!(here.len(), 4);
+        assert!(here.iter().all(|o| matches!(o, Outcome::Finished { .. })));
+        assert_eq!(here, there, "{file}");
+        same_case_files(&tmp, 4);
+    }
 }
 
 #[test]
-fn abdomen_through_the_fmu_equals_in_process_and_reports_the_fmu_error() {
-    let (here, there, tmp) = run_both(ABDOMEN, "abdomen-fmi2.fmu");
-    assert!(matches!(here[0], Outcome::Finished { .. }));
-    assert!(matches!(here[2], Outcome::Finished { .. }), "{:?}", here[2]);
-    assert_eq!(here[0], there[0]);
-    assert_eq!(
-        here[2], there[2],
-        "generated configuration files reach the FMU"
-    );
-    same_case_files(&tmp, 3);
-    let Outcome::Failed(message) = &there[1] else {
-        panic!("no_such_pelvis fails")
-    };
-    assert!(message.contains("no_such_pelvis"), "{message}");
+fn abdomen_through_both_fmus_equals_in_process_and_reports_the_fmu_error() {
+    for file in ["abdomen-fmi2.fmu", "abdomen-fmi3.fmu"] {
+        let (here, there, tmp) = run_both(ABDOMEN, file);
+        assert!(matches!(here[0], Outcome::Finished { .. }));
+        assert!(matches!(here[2], Outcome::Finished { .. }), "{:?}", here[2]);
+        assert_eq!(here[0], there[0], "{file}");
+        assert_eq!(
+            here[2], there[2],
+            "{file}: generated configuration files reach the FMU"
+        );
+        same_case_files(&tmp, 3);
+        let Outcome::Failed(message) = &there[1] else {
+            panic!("no_such_pelvis fails")
+        };
+        assert!(message.contains("no_such_pelvis"), "{message}");
+    }
 }
 
+/// The default press of 0.3 N/mm at 0.5 Hz from t = 5 s.
+const STARTED_LATE: &str = r#"
+name = "late"
+scene = "abdomen"
+start_time = 5.0
+stop_time = 5.1
+step = 0.01
+record = ["press_total", "apex_uy"]
+[parameters]
+target_triangles = 300
+press_amplitude = 0.3
+"#;
+
+/// Started at 5 s, the FMUs and the in-process scene see the same absolute times: the
+/// recorded press is the applied one, 0.3 sin(2π · 0.5 Hz · t) N/mm, at every point.
 #[test]
-fn an_fmi3_file_is_refused_with_a_clear_message() {
-    let tmp = tempfile::tempdir().unwrap();
-    let text = CUTBLOCK.replacen(
-        "\nrecord",
-        &format!(
-            "\nbackend = \"fmu\"\nfmu = {:?}\nrecord",
-            fmu("cutblock-fmi3.fmu")
-        ),
-        1,
-    );
-    let e = Experiment::parse(&text, tmp.path()).unwrap();
-    let err = format!("{:#}", sweep::run(&e, &tmp.path().join("out")).unwrap_err());
-    assert!(err.contains("FMI 3.0") && err.contains("fmi2"), "{err}");
-    assert!(!tmp.path().join("out").exists(), "nothing written");
+fn a_start_time_reaches_the_fmus_as_the_fmi_time() {
+    for file in ["abdomen-fmi2.fmu", "abdomen-fmi3.fmu"] {
+        let (here, there, tmp) = run_both(STARTED_LATE, file);
+        assert_eq!(here, there, "{file}");
+        same_case_files(&tmp, 1);
+        let path = tmp.path().join("fmu/cases/case_0000.csv");
+        let series = harness::sweep::Series::read_csv(&path).unwrap();
+        assert_eq!(series.rows[0][0], 5.0);
+        for row in &series.rows {
+            let applied = 0.3 * (std::f64::consts::PI * row[0]).sin();
+            assert!((row[1] - applied).abs() < 1e-12, "{row:?}");
+        }
+    }
 }

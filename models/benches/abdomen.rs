@@ -13,7 +13,7 @@ fn main() {
 
 fn initialized() -> Abdomen {
     let mut s = Abdomen::new();
-    s.initialize().unwrap();
+    s.initialize(0.0).unwrap();
     s
 }
 

@@ -134,7 +134,7 @@ fn cut_block_surface(bencher: Bencher, pull: f64) {
     let mut block = CutBlock::new();
     let vr = block.lookup("contact").unwrap();
     block.set_string(vr, "none").unwrap();
-    block.initialize().unwrap();
+    block.initialize(0.0).unwrap();
     block.set("scalpel_x", 100.0).unwrap();
     block.set("pull", pull).unwrap();
     block.do_step(0.0, 1.0).unwrap();

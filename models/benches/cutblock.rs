@@ -12,7 +12,7 @@ fn main() {
 
 fn initialized() -> CutBlock {
     let mut s = CutBlock::new();
-    s.initialize().unwrap();
+    s.initialize(0.0).unwrap();
     s.set("scalpel_x", 50.0).unwrap();
     s.do_step(0.0, 1.0).unwrap();
     s
@@ -121,7 +121,7 @@ mod parts {
 #[divan::bench(sample_count = 20)]
 fn contact_step(bencher: Bencher) {
     let mut s = CutBlock::new();
-    s.initialize().unwrap();
+    s.initialize(0.0).unwrap();
     s.set("scalpel_x", 100.0).unwrap();
     let mut pull = -3.0;
     bencher.bench_local(|| {

@@ -63,9 +63,25 @@ pub enum ModelError {
         step: u64,
         reason: String,
     },
+    /// A build would need more memory than its limit allows (see [`crate::budget`]).
+    #[error(
+        "{what} would bring this build to {:.0} MB, above memory_limit = {:.0} MB: coarsen \
+         the mesh or raise memory_limit",
+        megabytes(*.needed),
+        megabytes(*.limit)
+    )]
+    MemoryLimit {
+        what: &'static str,
+        needed: usize,
+        limit: usize,
+    },
     /// Failure inside the sparse linear algebra that is not a singular matrix.
     #[error("sparse linear algebra failed: {0}")]
     LinearAlgebra(String),
+}
+
+fn megabytes(bytes: usize) -> f64 {
+    bytes as f64 / 1e6
 }
 
 /// Returns `Ok(value)` when it is finite and strictly positive, else an error naming it.

@@ -13,10 +13,12 @@
 //! scene/     the scene interface (variable table, set/get, do_step) and the
 //!            abdomen and cutblock scenes the FMUs and the harness drive
 //! verify/    analytical reference problems the tests and the harness check against
+//! budget     the memory limit of a build: large allocations are claimed first
 //! error      ModelError: what went wrong, with the value and the variable
 //! ```
 
 pub mod assembly;
+pub mod budget;
 pub mod contact;
 pub mod element;
 pub mod error;

@@ -12,7 +12,7 @@ fn scene(strings: &[(&str, &str)], reals: &[(&str, f64)]) -> Abdomen {
     for (k, v) in reals {
         s.set(k, *v).unwrap();
     }
-    s.initialize().unwrap();
+    s.initialize(0.0).unwrap();
     s
 }
 
@@ -108,7 +108,8 @@ fn slow_pressing_matches_the_static_solution() {
         "quasi-static: |u_dyn - u_static| / |u_static| = {:.3e}",
         diff / norm
     );
-    assert!(diff / norm < 0.01);
+    // Measured 1.18e-5 (the README quotes 1.2e-5): the bound sits just above it.
+    assert!(diff / norm < 1.5e-5, "{}", diff / norm);
 }
 
 #[test]
@@ -207,7 +208,7 @@ fn central_difference_above_its_limit_is_refused() {
 fn bad_configurations_are_clear_errors() {
     let mut s = Abdomen::new();
     s.set_str("configuration", "no_such_pelvis").unwrap();
-    let e = s.initialize().unwrap_err().to_string();
+    let e = s.initialize(0.0).unwrap_err().to_string();
     assert!(e.contains("no_such_pelvis"), "{e}");
     let dir = std::env::temp_dir().join(format!("abdomen-bad-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -224,7 +225,7 @@ fn bad_configurations_are_clear_errors() {
     .unwrap();
     let mut s = Abdomen::new();
     s.set_str("configuration", open.to_str().unwrap()).unwrap();
-    let e = s.initialize().unwrap_err().to_string();
+    let e = s.initialize(0.0).unwrap_err().to_string();
     assert!(e.contains("abdominal_wall") && e.contains("open"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
     let mut s = Abdomen::new();
@@ -242,4 +243,72 @@ fn bad_configurations_are_clear_errors() {
         .unwrap_err()
         .to_string()
         .contains("glued"));
+}
+
+/// Time-dependent loads follow the caller's time: started at 5 s with the default press
+/// (0.8 N/mm at 0.5 Hz, period 2 s), the load is the start-at-0 load shifted by half a
+/// period, F(5 + τ) = −F(τ); the model is linear and starts at rest, so every displacement
+/// and the reported press are the negatives of the start-at-0 run.
+#[test]
+fn a_start_time_shifts_the_load_phase_and_press_total_reports_the_applied_load() {
+    let run = |t0: f64| {
+        let mut s = Abdomen::new();
+        s.set("target_triangles", 300.0).unwrap();
+        s.initialize(t0).unwrap();
+        let mut rows = Vec::new();
+        for k in 0..50 {
+            s.do_step(t0 + k as f64 * 1e-2, 1e-2).unwrap();
+            rows.push([s.get("apex_uy").unwrap(), s.get("press_total").unwrap()]);
+        }
+        rows
+    };
+    let (zero, five) = (run(0.0), run(5.0));
+    let scale = zero.iter().fold(0.0f64, |a, r| a.max(r[0].abs()));
+    for (a, b) in zero.iter().zip(&five) {
+        assert!((a[0] + b[0]).abs() <= 1e-9 * scale, "{a:?} {b:?}");
+        assert!((a[1] + b[1]).abs() <= 1e-12, "{a:?} {b:?}");
+    }
+    // At t = 5.5 s the applied load is 0.8 sin(5.5 π) = −0.8 N/mm, and so is press_total.
+    assert!((five[49][1] - 0.8 * (5.5 * std::f64::consts::PI).sin()).abs() < 1e-12);
+    assert!((five[49][1] + 0.8).abs() < 1e-12);
+}
+
+#[test]
+fn a_communication_step_of_too_many_substeps_is_refused_by_name() {
+    let mut s = scene(&[], &[("target_triangles", 300.0), ("max_step", 1e-8)]);
+    let start = std::time::Instant::now();
+    let e = s.do_step(0.0, 10.0).unwrap_err();
+    assert!(
+        start.elapsed().as_secs_f64() < 1.0,
+        "refused before stepping"
+    );
+    assert!(matches!(e, SceneError::TooManySubsteps { .. }), "{e}");
+    let text = e.to_string();
+    assert!(
+        text.contains("h = 10 s") && text.contains("max_step = 0.00000001 s"),
+        "{text}"
+    );
+    // The scene is still usable with a step that fits.
+    s.do_step(0.0, 1e-3).unwrap();
+}
+
+#[test]
+fn a_model_above_the_memory_limit_is_refused_before_it_is_built() {
+    let mut s = Abdomen::new();
+    s.set("memory_limit", 100.0).unwrap();
+    s.set("target_triangles", 500_000.0).unwrap();
+    let e = s.initialize(0.0).unwrap_err().to_string();
+    assert!(
+        e.contains("the abdomen mesh and its sparse system") && e.contains("memory_limit = 100 MB"),
+        "{e}"
+    );
+    // The default limit admits the default mesh; the limit also bounds the factorization.
+    scene(&[], &[]);
+    let mut s = Abdomen::new();
+    s.set("memory_limit", 10.0).unwrap();
+    let e = s.initialize(0.0).unwrap_err().to_string();
+    assert!(
+        e.contains("Cholesky factor") && e.contains("memory_limit = 10 MB"),
+        "{e}"
+    );
 }

@@ -146,7 +146,7 @@ fn cut_block_with_closed_flanks() {
     for (k, v) in [("cells_x", 3.0), ("cells_y", 8.0), ("cells_z", 7.0)] {
         block.set(k, v).unwrap();
     }
-    block.initialize().unwrap();
+    block.initialize(0.0).unwrap();
     block.set("scalpel_x", 100.0).unwrap();
     block.set("pull", -0.5).unwrap();
     block.do_step(0.0, 1.0).unwrap();

@@ -117,7 +117,7 @@ fn static_resolve_allocates_nothing() {
 fn abdomen_step_and_outputs_allocate_nothing() {
     let mut s = Abdomen::new();
     s.set("target_triangles", 500.0).unwrap();
-    s.initialize().unwrap();
+    s.initialize(0.0).unwrap();
     let outputs: Vec<u32> = s
         .variables()
         .iter()

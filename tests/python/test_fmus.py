@@ -4,7 +4,9 @@ mid-run and bad input."""
 
 import csv
 import io
+import struct
 import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -176,3 +178,83 @@ def test_missing_configuration_is_an_error_naming_it(capfd):
     out = capfd.readouterr()
     assert "no_such_pelvis" in out.out + out.err
     s.freeInstance()
+
+
+GUARDED = r'''
+import sys
+from fmpy import extract, read_model_description
+from fmpy.fmi2 import FMU2Slave
+
+def slave(path):
+    md = read_model_description(path)
+    s = FMU2Slave(guid=md.guid, unzipDirectory=extract(path),
+                  modelIdentifier=md.coSimulation.modelIdentifier, instanceName="g")
+    s.instantiate()
+    return s, {v.name: v.valueReference for v in md.modelVariables}
+
+block, vrs = slave(sys.argv[1])
+for name in ["cells_x", "cells_y", "cells_z"]:
+    block.setReal([vrs[name]], [400.0])
+block.setupExperiment(startTime=0.0)
+block.enterInitializationMode()
+try:
+    block.exitInitializationMode()
+    print("BUILT")
+except Exception:
+    print("REFUSED")
+
+abdomen, vrs = slave(sys.argv[2])
+abdomen.setReal([vrs["target_triangles"], vrs["max_step"]], [300.0, 1e-8])
+abdomen.setupExperiment(startTime=0.0)
+abdomen.enterInitializationMode()
+abdomen.exitInitializationMode()
+try:
+    abdomen.doStep(0.0, 10.0)
+    print("STEPPED")
+except Exception:
+    print("REFUSED")
+print("ALIVE")
+'''
+
+
+def test_oversize_models_and_substep_counts_are_refused_and_the_host_survives(tmp_path):
+    """Inputs inside the declared ranges that would need ~700 GB (cells 400³) or 10⁹
+    substeps (max_step 1e-8 s, h = 10 s) are refused with messages naming what to change,
+    quickly, and the importer's process lives on."""
+    script = tmp_path / "guarded.py"
+    script.write_text(GUARDED)
+    r = subprocess.run([sys.executable, str(script), fmu("cutblock", "fmi2"), fmu("abdomen", "fmi2")],
+                       capture_output=True, text=True, timeout=120)
+    out = r.stdout + r.stderr
+    assert r.returncode == 0, out
+    said = [line for line in r.stdout.splitlines() if line in ("BUILT", "REFUSED", "STEPPED", "ALIVE")]
+    assert said == ["REFUSED", "REFUSED", "ALIVE"], out
+    assert "the block mesh and its sparse system" in out and "memory_limit = 8000 MB" in out, out
+    assert "max_step = 0.00000001 s" in out and "h = 10 s" in out, out
+
+
+def elf_sections(data):
+    """Section names of a 64-bit little-endian ELF file, from its section header table."""
+    shoff, = struct.unpack_from("<Q", data, 0x28)
+    shentsize, shnum, shstrndx = struct.unpack_from("<HHH", data, 0x3A)
+    def header(i):
+        name, _, _, _, offset, size = struct.unpack_from("<IIQQQQ", data, shoff + i * shentsize)
+        return name, offset, size
+    _, strings, _ = header(shstrndx)
+    names = []
+    for i in range(shnum):
+        name = header(i)[0]
+        names.append(data[strings + name:data.index(b"\0", strings + name)].decode())
+    return names
+
+
+@pytest.mark.parametrize("model", ["abdomen", "cutblock"])
+@pytest.mark.parametrize("version", VERSIONS)
+def test_fmus_are_small_and_their_libraries_stripped(model, version):
+    path = fmu(model, version)
+    assert Path(path).stat().st_size <= 5_000_000
+    unzipped = Path(extract(path))
+    (library,) = unzipped.glob("binaries/*/*.so")
+    sections = elf_sections(library.read_bytes())
+    assert ".text" in sections and ".dynsym" in sections, sections
+    assert not [s for s in sections if s.startswith(".debug") or s == ".symtab"], sections

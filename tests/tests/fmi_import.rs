@@ -28,7 +28,7 @@ fn in_process() -> Vec<f64> {
     for (n, v) in SMALL {
         s.set(n, v).unwrap();
     }
-    s.initialize().unwrap();
+    s.initialize(0.0).unwrap();
     STEPS
         .iter()
         .enumerate()

@@ -16,6 +16,7 @@ use crate::sweep::{simulate, InProcess, InputTable, Schedule, Value};
 #[derive(Debug, Clone)]
 pub struct Request<'a> {
     pub scene: &'a str,
+    pub start_time: f64,
     pub stop_time: f64,
     pub step: f64,
     /// `name=value` parameter settings.
@@ -51,13 +52,14 @@ fn settings(scene_name: &str, set: &[String]) -> Result<Vec<(String, Value)>> {
 
 /// Runs the request; returns the file written, if any.
 pub fn command(request: &Request) -> Result<Option<PathBuf>> {
-    check_times(request.stop_time, request.step)?;
+    check_times(request.start_time, request.stop_time, request.step)?;
     let settings = settings(request.scene, request.set)?;
     let inputs = match request.inputs {
         Some(path) => InputTable::read_csv(path)?,
         None => BTreeMap::new(),
     };
     let schedule = Schedule {
+        start_time: request.start_time,
         stop_time: request.stop_time,
         step: request.step,
         settings: &settings,

@@ -145,7 +145,7 @@ mod tests {
         for (n, v) in [("cells_x", 2.0), ("cells_y", 4.0), ("cells_z", 2.0)] {
             s.set(n, v).unwrap();
         }
-        s.initialize().unwrap();
+        s.initialize(0.0).unwrap();
         s.set("pull", 5.0).unwrap();
         s.do_step(0.0, 1.0).unwrap();
         let (mesh, u) = s.field().unwrap();
@@ -175,7 +175,7 @@ mod tests {
     fn abdomen_writes_triangles_and_lines_with_their_tissue() {
         let mut a = Abdomen::new();
         a.set("target_triangles", 300.0).unwrap();
-        a.initialize().unwrap();
+        a.initialize(0.0).unwrap();
         let u = a.static_displacement(0.5).unwrap();
         let (mesh, props, _) = a.field().unwrap();
         let dir = tempfile::tempdir().unwrap();

@@ -12,7 +12,7 @@ use super::verification::cutblock::solved;
 /// force `press` (N/mm).
 pub fn abdomen_pressed(press: f64) -> Result<(Abdomen, Vec<f64>)> {
     let mut a = Abdomen::new();
-    a.initialize()?;
+    a.initialize(0.0)?;
     let u = a.static_displacement(press)?;
     Ok((a, u))
 }

@@ -110,6 +110,7 @@ pub fn response(nu: f64, pull: f64) -> Result<Response> {
     let mut record = vec!["reaction_force".to_string()];
     record.extend(profiles.iter().cloned());
     let schedule = Schedule {
+        start_time: 0.0,
         stop_time: 2.0,
         step: 1.0,
         settings: &settings,

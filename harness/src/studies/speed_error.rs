@@ -65,6 +65,7 @@ fn run(
     let settings = settings(triangles, integrator, dt);
     let record = ["floor_stress_max".to_string()];
     let schedule = Schedule {
+        start_time: 0.0,
         stop_time: duration,
         step: 1e-2,
         settings: &settings,
@@ -152,6 +153,7 @@ pub fn stability() -> Vec<Stability> {
             let mut settings = settings(800, integrator, dt);
             settings.extend(extra.iter().map(|&(k, v)| (k.to_string(), Value::Real(v))));
             let schedule = Schedule {
+                start_time: 0.0,
                 stop_time: ((0.1 / dt).round()).max(1.0) * dt,
                 step: dt,
                 settings: &settings,

@@ -53,7 +53,7 @@ impl Backend {
         match self {
             Self::InProcess(name) => Ok(Box::new(InProcess(scene::create(name)?))),
             #[cfg(feature = "fmu")]
-            Self::Fmu(f) => Ok(Box::new(f.open()?)),
+            Self::Fmu(f) => f.open(),
         }
     }
 }
@@ -77,8 +77,8 @@ impl<S: Scene + ?Sized> Session for InProcess<S> {
         Ok(())
     }
 
-    fn initialize(&mut self) -> Result<()> {
-        Ok(self.0.initialize()?)
+    fn initialize(&mut self, start_time: f64) -> Result<()> {
+        Ok(self.0.initialize(start_time)?)
     }
 
     fn step(&mut self, t: f64, h: f64) -> Result<()> {

@@ -9,7 +9,7 @@
 //! scene = "abdomen"
 //! backend = "in-process"        # or "fmu" (then `fmu = "path/to/abdomen-fmi2.fmu"`)
 //! stop_time = 1.0               # s
-//! step = 0.01                   # communication step, s
+//! step = 0.01                   # communication step, s (start_time = 0 unless given)
 //! jobs = 2                      # cases run in parallel (0: one per core)
 //! record = ["floor_stress_max", "floor_stress_mean"]
 //! metric = "floor_stress_max"   # the output whose peak the report plots
@@ -68,6 +68,8 @@ struct File {
     #[serde(default)]
     backend: BackendKind,
     fmu: Option<PathBuf>,
+    #[serde(default)]
+    start_time: f64,
     stop_time: f64,
     step: f64,
     #[serde(default)]
@@ -91,6 +93,7 @@ pub struct Experiment {
     pub backend: BackendKind,
     /// The FMU for the `fmu` backend (absolute).
     pub fmu: Option<PathBuf>,
+    pub start_time: f64,
     pub stop_time: f64,
     pub step: f64,
     /// Cases in parallel; 0 = one per core.
@@ -119,7 +122,7 @@ impl Experiment {
         let file: File = toml::from_str(text)?;
         let scene = scene::create(&file.scene).context("`scene`")?;
         let table = scene.variables();
-        check_times(file.stop_time, file.step)?;
+        check_times(file.start_time, file.stop_time, file.step)?;
         let metric = check_record(table, &file.record, file.metric.as_deref())?;
         for (name, value) in &file.parameters {
             check_value(scene.as_ref(), name, value)
@@ -144,6 +147,7 @@ impl Experiment {
             scene: file.scene,
             backend: file.backend,
             fmu,
+            start_time: file.start_time,
             stop_time: file.stop_time,
             step: file.step,
             jobs: file.jobs,
@@ -159,6 +163,7 @@ impl Experiment {
     /// What a case with `settings` runs: this experiment's times, inputs and outputs.
     pub fn schedule<'a>(&'a self, settings: &'a [(String, Value)]) -> Schedule<'a> {
         Schedule {
+            start_time: self.start_time,
             stop_time: self.stop_time,
             step: self.step,
             settings,

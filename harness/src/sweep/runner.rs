@@ -56,6 +56,7 @@ pub struct Sweep {
 #[derive(Serialize)]
 struct Plan<'a> {
     scene: &'a str,
+    start_time: f64,
     stop_time: f64,
     step: f64,
     record: &'a [String],
@@ -100,6 +101,7 @@ pub fn prepare(e: &Experiment, dir: &Path) -> Result<Vec<Vec<(String, Value)>>> 
         .collect::<Result<Vec<_>>>()?;
     let plan = Plan {
         scene: &e.scene,
+        start_time: e.start_time,
         stop_time: e.stop_time,
         step: e.step,
         record: &e.record,

@@ -140,16 +140,20 @@ pub struct Reference {
 pub trait Session {
     fn reference(&self, name: &str) -> Result<Reference>;
     fn set(&mut self, r: Reference, value: &Value) -> Result<()>;
-    fn initialize(&mut self) -> Result<()>;
+    /// Initializes at `start_time` (s).
+    fn initialize(&mut self, start_time: f64) -> Result<()>;
     fn step(&mut self, t: f64, h: f64) -> Result<()>;
     /// Reads all values of the variable into `out` (of length `r.len`).
     fn get(&mut self, r: Reference, out: &mut [f64]) -> Result<()>;
 }
 
 /// What a run does: parameters before initialization, inputs over time, the outputs to
-/// record, and the communication grid from 0 to `stop_time` in steps of `step`.
+/// record, and the communication grid t_k = `start_time` + k · `step` up to `stop_time`,
+/// stepped with h_k = t_{k+1} − t_k (the arithmetic fmpy uses, so that both pass the scenes
+/// the same times to the last bit).
 #[derive(Debug, Clone, Copy)]
 pub struct Schedule<'a> {
+    pub start_time: f64,
     pub stop_time: f64,
     pub step: f64,
     pub settings: &'a [(String, Value)],
@@ -160,24 +164,35 @@ pub struct Schedule<'a> {
 impl Schedule<'_> {
     /// Number of communication steps.
     pub fn steps(&self) -> usize {
-        (self.stop_time / self.step).round() as usize
+        ((self.stop_time - self.start_time) / self.step).round() as usize
+    }
+
+    /// The communication point t_k.
+    pub fn time(&self, k: usize) -> f64 {
+        self.start_time + k as f64 * self.step
     }
 }
 
-/// Stop time and communication step: positive, and a whole number of steps.
-pub fn check_times(stop_time: f64, step: f64) -> Result<()> {
+/// Start and stop time and communication step: finite, stop after start, a positive step,
+/// and a whole number of steps between them.
+pub fn check_times(start_time: f64, stop_time: f64, step: f64) -> Result<()> {
     ensure!(
-        stop_time.is_finite() && stop_time > 0.0,
-        "`stop_time` = {stop_time} must be positive"
+        start_time.is_finite(),
+        "`start_time` = {start_time} must be finite"
     );
     ensure!(
-        step.is_finite() && step > 0.0 && step <= stop_time,
-        "`step` = {step} must be positive and at most `stop_time` = {stop_time}"
+        stop_time.is_finite() && stop_time > start_time,
+        "`stop_time` = {stop_time} must be after `start_time` = {start_time}"
     );
-    let steps = stop_time / step;
+    let span = stop_time - start_time;
+    ensure!(
+        step.is_finite() && step > 0.0 && step <= span,
+        "`step` = {step} must be positive and at most `stop_time` − `start_time` = {span}"
+    );
+    let steps = span / step;
     ensure!(
         (steps - steps.round()).abs() < 1e-9 * steps,
-        "`stop_time` = {stop_time} is not a whole number of `step` = {step}"
+        "`stop_time` − `start_time` = {span} is not a whole number of `step` = {step}"
     );
     Ok(())
 }
@@ -253,22 +268,23 @@ pub fn simulate_observed<S: Session + ?Sized>(
         }
         Ok(row)
     };
-    set_inputs(session, 0.0)?;
-    session.initialize()?;
+    let t0 = schedule.start_time;
+    set_inputs(session, t0)?;
+    session.initialize(t0)?;
     let setup = start.elapsed();
-    observe(session, 0.0)?;
-    let mut rows = vec![outputs(session, 0.0)?];
+    observe(session, t0)?;
+    let mut rows = vec![outputs(session, t0)?];
     let mut stepping = Duration::ZERO;
     for k in 0..schedule.steps() {
-        let t = k as f64 * schedule.step;
+        let (t, next) = (schedule.time(k), schedule.time(k + 1));
         set_inputs(session, t)?;
         let begin = Instant::now();
         session
-            .step(t, schedule.step)
+            .step(t, next - t)
             .with_context(|| format!("step at t = {t} s"))?;
         stepping += begin.elapsed();
-        observe(session, t + schedule.step)?;
-        rows.push(outputs(session, t + schedule.step)?);
+        observe(session, next)?;
+        rows.push(outputs(session, next)?);
     }
     Ok(Run {
         series: Series { names, rows },
@@ -354,7 +370,7 @@ mod tests {
             }
             Ok(())
         }
-        fn initialize(&mut self) -> Result<()> {
+        fn initialize(&mut self, _start_time: f64) -> Result<()> {
             self.calls.push("initialize".into());
             Ok(())
         }
@@ -386,6 +402,7 @@ mod tests {
         let settings = [("p".to_string(), Value::Text("x".into()))];
         let record = ["y".to_string(), "pair".to_string()];
         let schedule = Schedule {
+            start_time: 0.0,
             stop_time: 0.6,
             step: 0.2,
             settings: &settings[..0],

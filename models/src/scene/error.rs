@@ -46,6 +46,18 @@ pub enum SceneError {
         value: f64,
         reason: &'static str,
     },
+    /// A communication step that would take more substeps than the scene allows.
+    #[error(
+        "a communication step of h = {h} s with max_step = {max_step} s needs {substeps:e} \
+         substeps, more than the {limit:e} allowed per step: raise max_step or shorten the \
+         communication step"
+    )]
+    TooManySubsteps {
+        h: f64,
+        max_step: f64,
+        substeps: f64,
+        limit: f64,
+    },
     #[error("invalid configuration: {0}")]
     Config(String),
     /// An explicit integrator asked to step above its stability limit.

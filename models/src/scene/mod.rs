@@ -64,10 +64,11 @@ pub trait Scene: Send {
     fn get_string(&self, vr: u32) -> Result<String, SceneError>;
 
     /// Builds everything the configuration needs (mesh, matrices, factorization) and solves
-    /// the initial state. Fixed parameters cannot change afterwards.
-    fn initialize(&mut self) -> Result<(), SceneError>;
+    /// the initial state at `start_time` (s). Fixed parameters cannot change afterwards.
+    fn initialize(&mut self, start_time: f64) -> Result<(), SceneError>;
 
-    /// Advances from `t` to `t + h` with the current inputs.
+    /// Advances from `t` to `t + h` with the current inputs. Time-dependent loads follow
+    /// the caller's time `t` (the FMI time), whatever the start time.
     fn do_step(&mut self, t: f64, h: f64) -> Result<(), SceneError>;
 
     /// Tells the scene where its resources (shipped configuration files) are; scenes that
@@ -101,6 +102,30 @@ pub trait Scene: Send {
             .map(|v| v.vr)
             .ok_or_else(|| SceneError::UnknownName(name.to_string()))
     }
+}
+
+/// The default `memory_limit` (MB): a third of a 24 GB machine, leaving room for the
+/// importer and a second instance.
+pub const DEFAULT_MEMORY_LIMIT_MB: f64 = 8000.0;
+
+/// The `memory_limit` parameter every scene has: what a build may claim (see
+/// [`crate::budget`]).
+fn memory_limit() -> Variable {
+    Variable::parameter(
+        "memory_limit",
+        Variability::Fixed,
+        "MB",
+        DEFAULT_MEMORY_LIMIT_MB,
+        (1.0, 1e7),
+        "largest memory the model may claim while it is built (mesh, sparse system, \
+         factorizations); a larger model is refused with a message instead of exhausting \
+         the host",
+    )
+}
+
+/// A `memory_limit` value (MB) in bytes.
+fn megabytes(mb: f64) -> usize {
+    (mb * 1e6) as usize
 }
 
 /// Refuses a step size that is not finite and positive.

@@ -17,6 +17,7 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side, Spec};
 
+use crate::budget;
 use crate::error::ModelError;
 
 /// Smallest admissible ratio of a Cholesky pivot L_jj² to its diagonal entry A_jj.
@@ -76,6 +77,10 @@ impl Cholesky {
                 .factorize_numeric_llt_scratch::<f64>(Par::Seq, Spec::<LltParams, f64>::default()),
             symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
         ]);
+        budget::claim(
+            "the Cholesky factor",
+            budget::bytes_of::<f64>(symbolic.len_val()).saturating_add(req.size_bytes()),
+        )?;
         let perm_fwd = match symbolic.perm() {
             Some(p) => p.arrays().0.to_vec(),
             None => (0..symbolic.nrows()).collect(),

@@ -19,7 +19,7 @@ fn scene(strings: &[(&str, &str)], reals: &[(&str, f64)]) -> Result<Abdomen> {
     for (k, v) in reals {
         s.set(k, *v)?;
     }
-    s.initialize()?;
+    s.initialize(0.0)?;
     Ok(s)
 }
 
@@ -35,6 +35,7 @@ fn floor_peaks(settings: &[(&str, Value)]) -> Result<[f64; 2]> {
         "floor_stress_max".to_string(),
     ];
     let schedule = Schedule {
+        start_time: 0.0,
         stop_time: 1.0,
         step: 1e-3,
         settings: &settings,

@@ -32,6 +32,7 @@ pub fn solved(
         .map(|&(k, v)| (k.to_string(), InputTable::constant(v)))
         .collect();
     let schedule = Schedule {
+        start_time: 0.0,
         stop_time: 1.0,
         step: 1.0,
         settings: &all,

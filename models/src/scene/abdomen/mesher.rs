@@ -7,6 +7,7 @@ use spade::{
 };
 
 use super::geometry::{Boundary, ControlPoints, PARTS};
+use crate::budget;
 use crate::element::tri3;
 use crate::mesh::Mesh2d;
 use crate::scene::SceneError;
@@ -22,6 +23,11 @@ pub const ANGLE_LIMIT_DEG: f64 = 25.0;
 const BOUNDARY_SPACING: f64 = 0.65;
 /// Triangle-area bound relative to the target mean area.
 const AREA_BOUND: f64 = 1.6;
+/// Memory per triangle of the mesh and its assembled system, estimated before meshing: half
+/// a node of 2 dofs with about 28 stored entries per node, each an index and eight value
+/// copies (stiffness, mass and damping in full and reduced, effective matrix), plus the
+/// 6 × 6 scatter map and the mesher's own vertices and faces.
+const BYTES_PER_TRIANGLE: usize = 14 * (8 + 8 * 8) + 36 * 8 + 200;
 
 /// A meshed cavity with its quality figures.
 #[derive(Debug, Clone)]
@@ -42,6 +48,10 @@ pub fn mesh(points: &ControlPoints, target_triangles: usize) -> Result<Meshed, S
             "target_triangles = {target_triangles} must be at least 50"
         )));
     }
+    budget::claim(
+        "the abdomen mesh and its sparse system",
+        target_triangles.saturating_mul(BYTES_PER_TRIANGLE),
+    )?;
     let coarse = Boundary::new(points, 1.0)?;
     let area = coarse.signed_area();
     // Equilateral triangles of the target mean area have side h. The boundary is sampled
@@ -176,7 +186,8 @@ mod tests {
             m.angle_histogram
         );
         assert!((4500..7500).contains(&n), "{n}");
-        assert!(m.min_angle >= 20.0, "{}", m.min_angle);
+        // The refinement's angle limit is 25°; the README quotes the measured 25.5°.
+        assert!(m.min_angle >= ANGLE_LIMIT_DEG, "{}", m.min_angle);
         assert!((120..260).contains(&m.mesh.lines().len()));
         for set in [
             "spine",

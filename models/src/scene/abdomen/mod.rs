@@ -32,16 +32,22 @@ use config::{PelvisConfig, ANATOMY};
 use mesher::Meshed;
 use model::{properties, Model};
 use variables::{
-    table, FIRST_OUTPUT, INTEGRATOR, MAX_STEP, PRESS_AMPLITUDE, PRESS_FORCE, PRESS_FREQUENCY,
-    TISSUE_BASE, WALL_SUPPORT,
+    table, FIRST_OUTPUT, INTEGRATOR, MAX_STEP, MEMORY_LIMIT, PRESS_AMPLITUDE, PRESS_FORCE,
+    PRESS_FREQUENCY, TISSUE_BASE, WALL_SUPPORT,
 };
 
 use super::{
-    check_step, GeneratedConfiguration, GeneratorParameter, Scene, SceneError, Values, Variable,
+    check_step, megabytes, GeneratedConfiguration, GeneratorParameter, Scene, SceneError, Values,
+    Variable,
 };
 use crate::assembly::plane::PlaneProperties;
+use crate::budget;
 use crate::mesh::Mesh2d;
 use crate::solve::IntegratorKind;
+
+/// Most substeps one communication step may take: a step that would need more is refused
+/// (it names `max_step` and h) instead of running for hours.
+pub const MAX_SUBSTEPS: f64 = 100_000.0;
 
 /// The scene. Build with [`Abdomen::new`], set parameters, `initialize`, then step.
 #[derive(Debug)]
@@ -132,13 +138,36 @@ impl Abdomen {
         Ok(outputs.to_vec())
     }
 
-    /// The pressing force (N/mm) at time t.
-    fn press(&self, t: f64) -> f64 {
-        let (a, f) = (
-            self.values.real(PRESS_AMPLITUDE),
-            self.values.real(PRESS_FREQUENCY),
-        );
-        self.values.real(PRESS_FORCE) + a * (2.0 * std::f64::consts::PI * f * t).sin()
+    /// The pressing force as the inputs now give it.
+    fn pressing(&self) -> Press {
+        Press {
+            force: self.values.real(PRESS_FORCE),
+            amplitude: self.values.real(PRESS_AMPLITUDE),
+            frequency: self.values.real(PRESS_FREQUENCY),
+        }
+    }
+
+    /// A model built for the current values, at rest at `start_time` under the pressing
+    /// force there.
+    fn started(&self, start_time: f64) -> Result<Model, SceneError> {
+        let mut model = Model::build(&self.values, &self.resources)?;
+        let dt = self.values.real(MAX_STEP);
+        model.integrator.prepare(&model.structure, dt)?;
+        let n = model.structure.n();
+        let press = self.pressing();
+        let unit = &model.unit_load;
+        let mut load = |t: f64, f: &mut [f64]| {
+            let force = press.at(t);
+            f.iter_mut().zip(unit).for_each(|(x, u)| *x = force * u);
+        };
+        model.integrator.start(
+            &model.structure,
+            start_time,
+            &vec![0.0; n],
+            &vec![0.0; n],
+            &mut load,
+        )?;
+        Ok(model)
     }
 
     /// The built model, or an error naming what needed it.
@@ -159,6 +188,21 @@ impl Abdomen {
         m.set_properties(props)?;
         self.stiffness_changed = false;
         Ok(())
+    }
+}
+
+/// The pressing force on the diaphragm (N per mm of depth): F(t) = force + amplitude ·
+/// sin(2π · frequency · t).
+#[derive(Debug, Clone, Copy)]
+struct Press {
+    force: f64,
+    amplitude: f64,
+    frequency: f64,
+}
+
+impl Press {
+    fn at(self, t: f64) -> f64 {
+        self.force + self.amplitude * (2.0 * std::f64::consts::PI * self.frequency * t).sin()
     }
 }
 
@@ -196,11 +240,15 @@ impl Scene for Abdomen {
         })
     }
 
+    /// A tissue parameter that changes value marks the stiffness for reassembly at the next
+    /// step; setting the value it already has costs nothing.
     fn set_real(&mut self, vr: u32, values: &[f64]) -> Result<(), SceneError> {
+        let tissue = (TISSUE_BASE..PRESS_AMPLITUDE).contains(&vr);
+        let old = tissue.then(|| self.values.real(vr));
         self.values.set_real(vr, values)?;
-        if (TISSUE_BASE..PRESS_AMPLITUDE).contains(&vr) {
+        if tissue && old != Some(values[0]) {
             properties(&self.values)?;
-            self.stiffness_changed = self.model.is_some();
+            self.stiffness_changed |= self.model.is_some();
         }
         Ok(())
     }
@@ -209,7 +257,7 @@ impl Scene for Abdomen {
         if self.values.read(vr, out)? {
             return Ok(());
         }
-        let press = self.press(self.time);
+        let press = self.pressing().at(self.time);
         let Some(m) = &self.model else {
             return Err(SceneError::NotInitialized {
                 name: self.values.variable(vr)?.name.clone(),
@@ -237,25 +285,18 @@ impl Scene for Abdomen {
         self.values.string(vr).map(str::to_string)
     }
 
-    fn initialize(&mut self) -> Result<(), SceneError> {
-        let mut model = Model::build(&self.values, &self.resources)?;
-        let dt = self.values.real(MAX_STEP);
-        model.integrator.prepare(&model.structure, dt)?;
-        let n = model.structure.n();
-        let f0 = self.press(0.0);
-        let unit = &model.unit_load;
-        let mut load = |_: f64, f: &mut [f64]| {
-            f.iter_mut().zip(unit).for_each(|(x, u)| *x = f0 * u);
-        };
-        model.integrator.start(
-            &model.structure,
-            0.0,
-            &vec![0.0; n],
-            &vec![0.0; n],
-            &mut load,
-        )?;
+    fn initialize(&mut self, start_time: f64) -> Result<(), SceneError> {
+        if !start_time.is_finite() {
+            return Err(SceneError::InvalidArgument {
+                name: "start time",
+                value: start_time,
+                reason: "must be finite",
+            });
+        }
+        let limit = megabytes(self.values.real(MEMORY_LIMIT));
+        let model = budget::within(limit, || self.started(start_time))?;
         self.model = Some(model);
-        self.time = 0.0;
+        self.time = start_time;
         self.outputs = None;
         self.values.freeze();
         Ok(())
@@ -266,13 +307,18 @@ impl Scene for Abdomen {
         if self.stiffness_changed {
             self.update_stiffness()?;
         }
-        let substeps = (h / self.values.real(MAX_STEP) - 1e-9).ceil().max(1.0);
+        let max_step = self.values.real(MAX_STEP);
+        let substeps = (h / max_step - 1e-9).ceil().max(1.0);
+        if substeps > MAX_SUBSTEPS {
+            return Err(SceneError::TooManySubsteps {
+                h,
+                max_step,
+                substeps,
+                limit: MAX_SUBSTEPS,
+            });
+        }
         let mut dt = h / substeps;
-        let (a, freq, bias) = (
-            self.values.real(PRESS_AMPLITUDE),
-            self.values.real(PRESS_FREQUENCY),
-            self.values.real(PRESS_FORCE),
-        );
+        let press = self.pressing();
         let Some(m) = &mut self.model else {
             return Err(SceneError::NotInitialized {
                 name: "do_step".into(),
@@ -294,9 +340,12 @@ impl Scene for Abdomen {
                 });
             }
         }
+        // The integrator counts its own time from the start; the load follows the caller's
+        // (the FMI time): τ + (t − t_integrator) is t + j·dt in substep j.
+        let offset = t - m.integrator.state().t;
         let unit = &m.unit_load;
         let mut load = |tau: f64, f: &mut [f64]| {
-            let force = bias + a * (2.0 * std::f64::consts::PI * freq * tau).sin();
+            let force = press.at(tau + offset);
             f.iter_mut().zip(unit).for_each(|(x, u)| *x = force * u);
         };
         for _ in 0..substeps as u64 {

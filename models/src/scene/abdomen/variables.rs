@@ -2,7 +2,7 @@
 //! descriptions) — what `modelDescription.xml` is generated from. Sources of the defaults
 //! are in the scene's module documentation.
 
-use crate::scene::{Variability, Variable};
+use crate::scene::{memory_limit, Variability, Variable};
 
 /// Tissue names as used in variable names: the cavity (triangles) and the three membranes
 /// (line regions 0, 1, 2).
@@ -14,12 +14,13 @@ pub const TARGET_TRIANGLES: u32 = 1;
 pub const WALL_SUPPORT: u32 = 2;
 pub const INTEGRATOR: u32 = 3;
 pub const MAX_STEP: u32 = 4;
+pub const MEMORY_LIMIT: u32 = 5;
 /// First of the 4 × 4 tissue parameters: E, ν or area, density, damping per tissue.
-pub const TISSUE_BASE: u32 = 5;
-pub const PRESS_AMPLITUDE: u32 = 21;
-pub const PRESS_FREQUENCY: u32 = 22;
-pub const PRESS_FORCE: u32 = 23;
-pub const FIRST_OUTPUT: u32 = 24;
+pub const TISSUE_BASE: u32 = 6;
+pub const PRESS_AMPLITUDE: u32 = 22;
+pub const PRESS_FREQUENCY: u32 = 23;
+pub const PRESS_FORCE: u32 = 24;
+pub const FIRST_OUTPUT: u32 = 25;
 
 /// Value reference of field `field` (0 E, 1 ν or area, 2 density, 3 damping) of a tissue.
 pub fn tissue_vr(tissue: usize, field: u32) -> u32 {
@@ -34,7 +35,8 @@ pub fn table() -> Vec<Variable> {
         Variable::parameter("target_triangles", Fixed, "1", 6000.0, (50.0, 500_000.0), "mesh resolution: approximate number of triangles"),
         Variable::string("abdominal_wall", "free", "`free` or `fixed` (seed 003: the wall can additionally be fixed)"),
         Variable::string("integrator", "houbolt", "houbolt, newmark, central_difference or rk4"),
-        Variable::parameter("max_step", Fixed, "s", 1e-3, (1e-8, 10.0), "largest internal time step; a communication step is split into equal substeps"),
+        Variable::parameter("max_step", Fixed, "s", 1e-3, (1e-8, 10.0), "largest internal time step; a communication step is split into equal substeps (at most 100000 per communication step)"),
+        memory_limit(),
     ];
     let defaults = [(0.005, 0.45), (0.2, 4.0), (0.0225, 20.0), (0.1, 8.0)];
     for (i, name) in TISSUES.iter().enumerate() {

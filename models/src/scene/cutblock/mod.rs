@@ -15,7 +15,10 @@ mod topology;
 use outputs::Outputs;
 use topology::{Geometry, Options, Strategy, Support, Topology};
 
-use super::{check_step, Scene, SceneError, Values, Variability, Variable};
+use super::{
+    check_step, megabytes, memory_limit, Scene, SceneError, Values, Variability, Variable,
+};
+use crate::budget;
 use crate::element::Elastic;
 
 /// Laser-profile stations: y = 0, 0.5, …, 90 mm in lab coordinates (the default block
@@ -40,7 +43,8 @@ const PULL: u32 = 13;
 const PRESS: u32 = 14;
 const SCALPEL: u32 = 15;
 const CONTACT: u32 = 16;
-const FIRST_OUTPUT: u32 = 17;
+const MEMORY_LIMIT: u32 = 17;
+const FIRST_OUTPUT: u32 = 18;
 
 fn table() -> Vec<Variable> {
     use Variability::{Fixed, Tunable};
@@ -64,6 +68,7 @@ fn table() -> Vec<Variable> {
         Variable::input("press_force", "N", 0.0, (0.0, 1e6), "downward force on the top surface at the scalpel tip"),
         Variable::input("scalpel_x", "mm", 0.0, (0.0, 1e4), "scalpel position; the incision covers x from 0 to here, in whole cells"),
         Variable::string("contact", "penalty", "`penalty` (closing cut flanks are kept apart, node-to-facet penalty) or `none` (flanks may pass through each other)"),
+        memory_limit(),
         Variable::output("reaction_force", "N", 1, "y-reaction force on the pulled face y = L"),
         Variable::output("cut_opening", "mm", 1, "largest gap between facing flank nodes on the top surface"),
         Variable::output("bottom_lift", "mm", 1, "largest upward displacement of the bottom surface under the cut plane"),
@@ -190,7 +195,8 @@ impl CutBlock {
             Some(t) if t.cut_cells == cells => t.set_material(material)?,
             slot => {
                 // Built aside first: on error the last good topology and state stay.
-                let built = Topology::build(geometry, cells, material)?;
+                let limit = megabytes(self.values.real(MEMORY_LIMIT));
+                let built = budget::within(limit, || Topology::build(geometry, cells, material))?;
                 let old = slot.replace(built).map_or(0, |t| t.factorizations);
                 self.work.factorizations += old;
                 self.work.topology_builds += 1;
@@ -257,8 +263,10 @@ impl Scene for CutBlock {
         self.values.string(vr).map(str::to_string)
     }
 
-    fn initialize(&mut self) -> Result<(), SceneError> {
-        self.geometry = Some(self.geometry_from_values()?);
+    /// Quasi-static: the start time does not matter.
+    fn initialize(&mut self, _start_time: f64) -> Result<(), SceneError> {
+        let limit = megabytes(self.values.real(MEMORY_LIMIT));
+        self.geometry = Some(budget::within(limit, || self.geometry_from_values())?);
         self.topology = None;
         self.solve()?;
         self.values.freeze();
