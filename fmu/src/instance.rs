@@ -531,6 +531,9 @@ impl Instance {
             return Ok(());
         }
         self.unbuild()?;
+        if let [(vr, value)] = items {
+            return write(self.scene.as_mut(), *vr, value);
+        }
         let old = items
             .iter()
             .map(|&(vr, _)| read(self.scene.as_mut(), vr))

@@ -63,6 +63,13 @@ pub enum ModelError {
         step: u64,
         reason: String,
     },
+    /// A finite-strain element turned inside out: J = det F ≤ 0 at a quadrature point.
+    #[error("element {element} is inverted (J = det F = {j:e} at a quadrature point)")]
+    Inverted { element: usize, j: f64 },
+    /// A nonlinear solve that stopped short of its load: `reached` is the fraction of the
+    /// load change reached (0 … 1).
+    #[error("no equilibrium beyond {:.1} % of the load change: {reason}", 100.0 * .reached)]
+    NotConverged { reached: f64, reason: String },
     /// A build would need more memory than its limit allows (see [`crate::budget`]).
     #[error(
         "{what} would bring this build to {:.0} MB, above memory_limit = {:.0} MB: coarsen \

@@ -1,11 +1,17 @@
-//! Element matrices for linear elasticity, small strain (seed 003 App. A and C).
+//! Elements and materials (seed 003 App. A and C): closed-form small-strain matrices of the
+//! linear elements (tri3, line2, tet4), the quadratic tetrahedron (tet10), quadrature, the
+//! material laws (linear, neo-Hookean, St. Venant–Kirchhoff) and the one total Lagrangian
+//! kernel (`solid`) through which every solid element × law goes.
 //!
 //! Every function here is pure: coordinates and material in, a small fixed-size `nalgebra`
 //! matrix out. Degree-of-freedom order is node-major: `(u_x1, u_y1[, u_z1], u_x2, …)`.
 
 pub mod line2;
 pub mod material;
+pub mod quadrature;
+pub mod solid;
+pub mod tet10;
 pub mod tet4;
 pub mod tri3;
 
-pub use material::Elastic;
+pub use material::{Elastic, Law, Material};

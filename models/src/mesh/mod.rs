@@ -1,15 +1,18 @@
 //! Meshes: a 2D mesh of 3-node triangles plus 2-node line elements sharing its nodes
 //! ([`Mesh2d`]) and a 3D mesh of 4-node tetrahedra with its boundary faces ([`Mesh3d`]).
 //! Both validate on construction; both carry named node sets (supports, loads, landmarks).
+//! A [`QuadraticMesh`] adds mid-edge nodes to a 3D mesh for 10-node tetrahedra.
 
 pub mod cut;
 pub mod generate;
 mod node_sets;
 mod plane;
+mod quadratic;
 mod solid;
 
 pub use node_sets::NodeSets;
 pub use plane::Mesh2d;
+pub use quadratic::QuadraticMesh;
 pub use solid::{BoundaryFace, Mesh3d};
 
 use crate::error::ModelError;

@@ -113,9 +113,13 @@ impl SceneError {
             Self::Unstable { .. } | Self::NotConverged { .. } | Self::Separated { .. } => {
                 ErrorKind::Runtime
             }
-            Self::Model(M::Singular { .. } | M::Diverged { .. } | M::LinearAlgebra(_)) => {
-                ErrorKind::Runtime
-            }
+            Self::Model(
+                M::Singular { .. }
+                | M::Diverged { .. }
+                | M::LinearAlgebra(_)
+                | M::Inverted { .. }
+                | M::NotConverged { .. },
+            ) => ErrorKind::Runtime,
             Self::Model(_) => ErrorKind::Configuration,
             _ => ErrorKind::Usage,
         }

@@ -1,5 +1,6 @@
-//! Sparse Cholesky factorization (faer) with a fill-reducing AMD ordering. The symbolic
-//! analysis is done once per pattern; numeric refactorization and solves reuse it and the
+//! Sparse Cholesky factorization (faer) with a fill-reducing ordering: faer's AMD for the
+//! simplicial storage (2D meshes), nested dissection (METIS, [`super::ordering`]) for the
+//! supernodal one (3D meshes). The symbolic analysis is done once per pattern; numeric refactorization and solves reuse it and the
 //! preallocated workspace, so a solve allocates nothing.
 //!
 //! A singular or nearly singular matrix (a floating body, a missing support, a mechanism)
@@ -9,6 +10,7 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::{LltError, LltParams, LltRegularization};
+use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, supernodal::SupernodalLltRef, CholeskySymbolicParams, LltRef,
     SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
@@ -17,6 +19,7 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side, Spec};
 
+use super::ordering;
 use crate::budget;
 use crate::error::ModelError;
 
@@ -26,8 +29,9 @@ use crate::error::ModelError;
 /// diagonal; a physical stiffness contrast of 1e6 gives ratios near 1e-6.
 pub const PIVOT_RATIO_TOL: f64 = 1e-10;
 
-/// How faer stores the Cholesky factor. Simplicial is faster per solve for 2D meshes; supernodal
-/// is much faster to factorize for 3D meshes (measured; see BENCHMARKS.md).
+/// How faer stores the Cholesky factor, and with it the ordering. Simplicial (AMD) is faster
+/// per solve for 2D meshes; supernodal (nested dissection) is much faster to factorize for
+/// 3D meshes (measured; see BENCHMARKS.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Factorization {
     #[default]
@@ -69,9 +73,21 @@ impl Cholesky {
             supernodal_flop_ratio_threshold: threshold,
             ..Default::default()
         };
-        let symbolic =
-            factorize_symbolic_cholesky(pattern, Side::Lower, SymmetricOrdering::Amd, params)
-                .map_err(|e| ModelError::LinearAlgebra(format!("symbolic Cholesky: {e:?}")))?;
+        let (fwd, inv);
+        let ordering = match factorization {
+            Factorization::Simplicial => SymmetricOrdering::Amd,
+            Factorization::Supernodal => {
+                fwd = ordering::nested_dissection(pattern)?;
+                let mut i = vec![0; fwd.len()];
+                for (k, &p) in fwd.iter().enumerate() {
+                    i[p] = k;
+                }
+                inv = i;
+                SymmetricOrdering::Custom(PermRef::new_checked(&fwd, &inv, fwd.len()))
+            }
+        };
+        let symbolic = factorize_symbolic_cholesky(pattern, Side::Lower, ordering, params)
+            .map_err(|e| ModelError::LinearAlgebra(format!("symbolic Cholesky: {e:?}")))?;
         let req = StackReq::any_of(&[
             symbolic
                 .factorize_numeric_llt_scratch::<f64>(Par::Seq, Spec::<LltParams, f64>::default()),

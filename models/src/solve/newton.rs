@@ -1,0 +1,406 @@
+//! Nonlinear statics, r(u) = f_int(u) − f_ext = 0 on the free dofs, under prescribed
+//! displacements (by elimination, as [`super::Statics`]) and external forces.
+//!
+//! A call of [`Newton::solve`] goes from the last equilibrium to a new load in increments:
+//! the prescribed displacements and the external forces move linearly from the old load to
+//! the new one, by at most `max_increment` (mm) of any prescribed displacement per increment.
+//! Each increment starts from a secant predictor (the previous increment's displacement
+//! change, scaled to this increment) with the prescribed values at their targets, then
+//! iterates Newton–Raphson: factorize the tangent K_ff (the symbolic analysis is made once,
+//! in [`Newton::new`]), solve K_ff Δu = −r_f, and step along Δu with a backtracking line
+//! search on ‖r_f‖ (α halved while ‖r_f(u + αΔu)‖ > (1 − 10⁻⁴ α) ‖r_f(u)‖, or while an
+//! element inverts). An increment has converged when ‖r_f‖ ≤ `residual_tolerance` · (the
+//! largest force norm of the solve: internal forces, reactions included, and external
+//! forces) and the last correction ‖αΔu‖_∞ ≤ `displacement_tolerance` · ‖u‖_∞; or when the
+//! line search finds no descent at a residual already within round-off (10⁻¹³ of that
+//! scale). An increment that does not converge in `max_iterations`, whose line search
+//! fails, or that inverts an element (or whose tangent is not positive definite), is cut
+//! back to half its size and retried from the last converged state; a converged one lets
+//! the next grow back, up to the first size. An increment smaller than the first one halved
+//! `max_cutbacks` times fails the solve with [`ModelError::NotConverged`], naming the
+//! fraction of the load change reached; `u` is left at the start of the call.
+//!
+//! Nothing is allocated per iteration: the vectors and the factor's storage are made in
+//! [`Newton::new`]; an iteration assembles into them, refactorizes numerically and solves.
+
+use std::time::{Duration, Instant};
+
+use super::cholesky::{Cholesky, Factorization};
+use crate::assembly::{Assembler, Dirichlet};
+use crate::error::ModelError;
+
+/// A residual below this fraction of the force scale is round-off.
+const ROUND_OFF: f64 = 1e-13;
+
+fn norm_of(x: &[f64]) -> f64 {
+    x.iter().map(|v| v * v).sum::<f64>().sqrt()
+}
+
+/// What the solver iterates on: the internal forces and their tangent.
+pub trait Equations {
+    /// Writes the internal forces at `u` (all dofs) into `f` and, when given, the tangent
+    /// values (on the assembler's pattern) into `k`. An inverted element is an error
+    /// ([`ModelError::Inverted`]); the solver cuts back.
+    fn internal(
+        &mut self,
+        u: &[f64],
+        f: &mut [f64],
+        k: Option<&mut [f64]>,
+    ) -> Result<(), ModelError>;
+}
+
+/// The solver's settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    /// Largest change of any prescribed displacement per increment (mm).
+    pub max_increment: f64,
+    pub residual_tolerance: f64,
+    pub displacement_tolerance: f64,
+    pub max_iterations: usize,
+    pub max_cutbacks: usize,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            max_increment: 1.0,
+            residual_tolerance: 1e-10,
+            displacement_tolerance: 1e-10,
+            max_iterations: 25,
+            max_cutbacks: 8,
+        }
+    }
+}
+
+/// What a solve did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Report {
+    /// Newton iterations (factorizations) of each converged increment.
+    pub iterations: Vec<usize>,
+    /// Increments that were cut back.
+    pub cutbacks: usize,
+    /// ‖r_f‖ / scale at each iterate of the last increment (the convergence history).
+    pub residuals: Vec<f64>,
+    pub assembly: Duration,
+    pub factorization: Duration,
+    pub solve: Duration,
+}
+
+impl Report {
+    pub fn factorizations(&self) -> usize {
+        self.iterations.iter().sum()
+    }
+}
+
+/// Why an increment failed.
+#[derive(Debug)]
+enum Failure {
+    Iterations,
+    LineSearch,
+    /// An inverted element, or a singular tangent.
+    Model(ModelError),
+}
+
+/// A Newton–Raphson solver for one pattern and one set of constrained dofs.
+pub struct Newton {
+    bc: Dirichlet,
+    chol: Cholesky,
+    settings: Settings,
+    /// Full tangent and its free–free part.
+    k: Vec<f64>,
+    reduced: Vec<f64>,
+    /// Internal forces (all dofs), free residual, correction.
+    f: Vec<f64>,
+    r: Vec<f64>,
+    du: Vec<f64>,
+    /// Trial state, last converged state, previous converged state (for the predictor).
+    trial: Vec<f64>,
+    converged: Vec<f64>,
+    previous: Vec<f64>,
+    /// The load of the last equilibrium and of the current target (all dofs).
+    prescribed: Vec<f64>,
+    external: Vec<f64>,
+    target_prescribed: Vec<f64>,
+    target_external: Vec<f64>,
+    /// The largest force norm seen in this solve (the residual's scale).
+    scale: f64,
+    report: Report,
+}
+
+impl std::fmt::Debug for Newton {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Newton")
+            .field("free", &self.bc.n_free())
+            .field("settings", &self.settings)
+            .finish()
+    }
+}
+
+impl Newton {
+    /// Symbolic analysis of the free–free pattern; the last equilibrium is u = 0 under no
+    /// load.
+    pub fn new(
+        asm: &Assembler,
+        constrained: &[usize],
+        factorization: Factorization,
+        settings: Settings,
+    ) -> Result<Self, ModelError> {
+        crate::error::positive("max_increment", settings.max_increment)?;
+        let bc = Dirichlet::new(asm, constrained)?;
+        let chol = Cholesky::analyze(bc.symbolic().as_ref(), factorization)?;
+        let (n, free) = (asm.n_dofs(), bc.n_free());
+        let full = || vec![0.0; n];
+        Ok(Self {
+            k: asm.zeros(),
+            reduced: vec![0.0; bc.nnz()],
+            f: full(),
+            r: vec![0.0; free],
+            du: vec![0.0; free],
+            trial: full(),
+            converged: full(),
+            previous: full(),
+            prescribed: full(),
+            external: full(),
+            target_prescribed: full(),
+            target_external: full(),
+            scale: 0.0,
+            report: Report {
+                residuals: Vec::with_capacity(settings.max_iterations + 1),
+                ..Report::default()
+            },
+            bc,
+            chol,
+            settings,
+        })
+    }
+
+    pub fn settings(&self) -> Settings {
+        self.settings
+    }
+
+    /// Changes the settings (e.g. `max_increment`) for later solves.
+    pub fn set_settings(&mut self, settings: Settings) -> Result<(), ModelError> {
+        crate::error::positive("max_increment", settings.max_increment)?;
+        self.settings = settings;
+        Ok(())
+    }
+
+    /// The dof split.
+    pub fn dirichlet(&self) -> &Dirichlet {
+        &self.bc
+    }
+
+    /// The internal forces (all dofs) at the last equilibrium: at the constrained dofs,
+    /// the reactions plus the external forces there.
+    pub fn internal_forces(&self) -> &[f64] {
+        &self.f
+    }
+
+    /// Moves `u` from the last equilibrium to equilibrium under the prescribed values
+    /// `prescribed` (read at the constrained dofs) and the external forces `external` (all
+    /// dofs). On failure `u` keeps the last equilibrium.
+    pub fn solve(
+        &mut self,
+        eq: &mut impl Equations,
+        u: &mut [f64],
+        prescribed: &[f64],
+        external: &[f64],
+    ) -> Result<&Report, ModelError> {
+        for &d in self.bc.constrained() {
+            self.target_prescribed[d] = prescribed[d];
+        }
+        self.target_external.copy_from_slice(external);
+        self.scale = norm_of(external).max(norm_of(&self.external));
+        self.converged.copy_from_slice(u);
+        self.previous.copy_from_slice(u);
+        let change = self
+            .bc
+            .constrained()
+            .iter()
+            .map(|&d| (prescribed[d] - self.prescribed[d]).abs())
+            .fold(0.0, f64::max);
+        let base = 1.0 / (change / self.settings.max_increment).ceil().max(1.0);
+        self.report.iterations.clear();
+        self.report.cutbacks = 0;
+        let smallest = base / f64::from(1u32 << self.settings.max_cutbacks.min(30));
+        let (mut s, mut ds, mut last_ds) = (0.0, base, 0.0);
+        while s < 1.0 {
+            let next = (s + ds).min(1.0);
+            match self.increment(eq, s, next, last_ds) {
+                Ok(iterations) => {
+                    self.report.iterations.push(iterations);
+                    self.previous.copy_from_slice(&self.converged);
+                    self.converged.copy_from_slice(&self.trial);
+                    last_ds = next - s;
+                    s = next;
+                    ds = (2.0 * ds).min(base);
+                }
+                Err(_) if 0.5 * ds >= smallest => {
+                    self.report.cutbacks += 1;
+                    ds *= 0.5;
+                }
+                Err(why) => {
+                    // The load change reached before the failure; `u` stays as it came.
+                    let reason = match why {
+                        Failure::Iterations => format!(
+                            "Newton's method did not converge in {} iterations",
+                            self.settings.max_iterations
+                        ),
+                        Failure::LineSearch => "the line search found no descent".into(),
+                        Failure::Model(e) => e.to_string(),
+                    };
+                    return Err(ModelError::NotConverged {
+                        reached: s,
+                        reason: format!(
+                            "{reason}, with the increment cut back to {ds:.3e} of the load change"
+                        ),
+                    });
+                }
+            }
+        }
+        // `f` holds the internal forces of the last accepted iterate: the equilibrium.
+        u.copy_from_slice(&self.converged);
+        self.prescribed.copy_from_slice(&self.target_prescribed);
+        self.external.copy_from_slice(&self.target_external);
+        Ok(&self.report)
+    }
+
+    /// The load at fraction `s` of the change, at the constrained dofs of `x`.
+    fn set_prescribed(&self, s: f64, x: &mut [f64]) {
+        for &d in self.bc.constrained() {
+            x[d] = self.prescribed[d] + s * (self.target_prescribed[d] - self.prescribed[d]);
+        }
+    }
+
+    /// One increment from the converged state at fraction `from` to `to`; on success the
+    /// equilibrium is in `trial`.
+    fn increment(
+        &mut self,
+        eq: &mut impl Equations,
+        from: f64,
+        to: f64,
+        last: f64,
+    ) -> Result<usize, Failure> {
+        // Secant predictor, then the prescribed values at their targets.
+        let scale = if last > 0.0 { (to - from) / last } else { 0.0 };
+        for ((t, c), p) in self
+            .trial
+            .iter_mut()
+            .zip(&self.converged)
+            .zip(&self.previous)
+        {
+            *t = c + scale * (c - p);
+        }
+        let mut trial = std::mem::take(&mut self.trial);
+        self.set_prescribed(to, &mut trial);
+        self.trial = trial;
+        self.report.residuals.clear();
+        let mut norm = self.residual(eq, to)?;
+        if self.trial == self.converged && norm <= self.settings.residual_tolerance * self.scale {
+            return Ok(0);
+        }
+        for iteration in 1..=self.settings.max_iterations {
+            self.tangent(eq)?;
+            self.direction()?;
+            let step = match self.line_search(eq, to, norm) {
+                Ok((next, step)) => {
+                    norm = next;
+                    step
+                }
+                // No descent left at round-off: converged as far as arithmetic allows.
+                Err(Failure::LineSearch) if norm <= ROUND_OFF * self.scale => return Ok(iteration),
+                Err(e) => return Err(e),
+            };
+            let size = self
+                .trial
+                .iter()
+                .fold(0.0f64, |a, x| a.max(x.abs()))
+                .max(1e-300);
+            if norm <= self.settings.residual_tolerance * self.scale
+                && step <= self.settings.displacement_tolerance * size
+            {
+                return Ok(iteration);
+            }
+        }
+        Err(Failure::Iterations)
+    }
+
+    /// r_f = f_int − f_ext on the free dofs at `trial` for load fraction `s`; updates the
+    /// force scale, records ‖r_f‖ relative to it and returns ‖r_f‖.
+    fn residual(&mut self, eq: &mut impl Equations, s: f64) -> Result<f64, Failure> {
+        let start = Instant::now();
+        let result = eq.internal(&self.trial, &mut self.f, None);
+        self.report.assembly += start.elapsed();
+        result.map_err(Failure::Model)?;
+        let mut sq = 0.0;
+        for (k, &d) in self.bc.free().iter().enumerate() {
+            let ext = self.external[d] + s * (self.target_external[d] - self.external[d]);
+            self.r[k] = self.f[d] - ext;
+            sq += self.r[k] * self.r[k];
+        }
+        let norm = sq.sqrt();
+        self.scale = self.scale.max(norm_of(&self.f)).max(1e-300);
+        self.report.residuals.push(norm / self.scale);
+        Ok(norm)
+    }
+
+    /// Assembles and factorizes the tangent at `trial`.
+    fn tangent(&mut self, eq: &mut impl Equations) -> Result<(), Failure> {
+        let start = Instant::now();
+        let result = eq.internal(&self.trial, &mut self.f, Some(&mut self.k));
+        self.report.assembly += start.elapsed();
+        result.map_err(Failure::Model)?;
+        let start = Instant::now();
+        self.bc.combine(&[(1.0, &self.k)], &mut self.reduced);
+        let factorized = self.chol.factorize(self.bc.matrix(&self.reduced));
+        self.report.factorization += start.elapsed();
+        factorized.map_err(Failure::Model)
+    }
+
+    /// Δu = −K_ff⁻¹ r_f.
+    fn direction(&mut self) -> Result<(), Failure> {
+        let start = Instant::now();
+        for (d, r) in self.du.iter_mut().zip(&self.r) {
+            *d = -r;
+        }
+        self.chol.solve_in_place(&mut self.du);
+        self.report.solve += start.elapsed();
+        if self.du.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(Failure::LineSearch)
+        }
+    }
+
+    /// Steps `trial` along Δu with a backtracking line search; returns the new ‖r_f‖ and
+    /// the size ‖αΔu‖_∞ of the step taken.
+    fn line_search(
+        &mut self,
+        eq: &mut impl Equations,
+        s: f64,
+        norm: f64,
+    ) -> Result<(f64, f64), Failure> {
+        let mut alpha = 1.0;
+        let mut taken = 0.0;
+        for _ in 0..8 {
+            // Move from the step taken so far to α Δu.
+            for (k, &d) in self.bc.free().iter().enumerate() {
+                self.trial[d] += (alpha - taken) * self.du[k];
+            }
+            taken = alpha;
+            let size = alpha * self.du.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            match self.residual(eq, s) {
+                Ok(next) if next <= (1.0 - 1e-4 * alpha) * norm || next == 0.0 => {
+                    return Ok((next, size));
+                }
+                Ok(_) => {
+                    self.report.residuals.pop();
+                }
+                Err(Failure::Model(_)) => {}
+                Err(other) => return Err(other),
+            }
+            alpha *= 0.5;
+        }
+        Err(Failure::LineSearch)
+    }
+}
