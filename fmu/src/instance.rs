@@ -236,11 +236,15 @@ impl Instance {
 
     /// Turns call logging on or off (category `logCalls`). Unknown categories are an error.
     pub fn set_debug_logging(&mut self, on: bool, categories: &[String]) -> Status {
-        if let Some(c) = categories
-            .iter()
-            .find(|c| *c != "logCalls" && *c != "logStatusError")
-        {
-            let message = format!("unknown log category `{c}` (have logStatusError, logCalls)");
+        if let Some(c) = categories.iter().find(|c| {
+            !matches!(
+                c.as_str(),
+                "logCalls" | "logStatusError" | "logStatusWarning"
+            )
+        }) {
+            let message = format!(
+                "unknown log category `{c}` (have logStatusError, logStatusWarning, logCalls)"
+            );
             return self.error(Status::Error, &message);
         }
         self.log_calls =
@@ -275,6 +279,19 @@ impl Instance {
         self.error(Status::Error, &message)
     }
 
+    /// Queues the scene's new warnings (category `logStatusWarning`, always logged) and
+    /// returns Warning if there were any.
+    fn warn(&mut self) -> Status {
+        let warnings = self.scene.take_warnings();
+        if warnings.is_empty() {
+            return Status::Ok;
+        }
+        for w in warnings {
+            self.messages.push((Status::Warning, "logStatusWarning", w));
+        }
+        Status::Warning
+    }
+
     pub fn setup_experiment(&mut self, start: f64) -> Status {
         if !start.is_finite() {
             return self.error(Status::Error, &format!("start time {start} is not finite"));
@@ -302,7 +319,7 @@ impl Instance {
         match self.scene.initialize(self.start_time) {
             Ok(()) => {
                 self.built = true;
-                Status::Ok
+                self.warn()
             }
             Err(e) => {
                 self.phase = Phase::Error;
@@ -344,9 +361,9 @@ impl Instance {
     /// Leaves Initialization Mode, building the scene if no build is current.
     pub fn exit_initialization(&mut self) -> Status {
         match self.build() {
-            Status::Ok => {
+            s @ (Status::Ok | Status::Warning) => {
                 self.phase = Phase::Step;
-                Status::Ok
+                s
             }
             s => s,
         }
@@ -369,7 +386,7 @@ impl Instance {
         match self.scene.do_step(current, h) {
             Ok(()) => {
                 self.time = current + h;
-                Status::Ok
+                self.warn()
             }
             Err(e) => {
                 self.phase = Phase::Error;
@@ -569,8 +586,9 @@ impl Instance {
             Ok(r) => r,
             Err(s) => return s,
         };
-        if let s @ (Status::Error | Status::Fatal) = self.ready_for(&refs) {
-            return s;
+        let ready = self.ready_for(&refs);
+        if matches!(ready, Status::Error | Status::Fatal) {
+            return ready;
         }
         let mut at = 0;
         for r in refs {
@@ -586,7 +604,7 @@ impl Instance {
             values[at..at + r.len].copy_from_slice(&self.buffer[r.index..r.index + r.len]);
             at += r.len;
         }
-        Status::Ok
+        ready
     }
 
     /// Gets string variables; the returned C strings stay valid until the next call.
@@ -718,12 +736,12 @@ mod tests {
             small(&mut i, &vr);
             i.enter_initialization();
             let mut force = [0.0];
-            assert_eq!(i.set_reals(&[vr("pull")], &[2.0]), Status::Ok);
+            assert_eq!(i.set_reals(&[vr("pull")], &[0.5]), Status::Ok);
             assert_eq!(i.get_reals(&[vr("reaction_force")], &mut force), Status::Ok);
             assert!(force[0] > 0.0);
             // A fixed parameter and an input set after the read: the next read rebuilds.
             assert_eq!(
-                i.set_reals(&[vr("E"), vr("pull")], &[0.077, 4.0]),
+                i.set_reals(&[vr("E"), vr("pull")], &[0.077, 1.0]),
                 Status::Ok
             );
             let mut again = [0.0];
@@ -743,6 +761,38 @@ mod tests {
                 "{version:?}: two reads with a set between, no third"
             );
         }
+    }
+
+    /// The linear law beyond 5 % strain: the step returns Warning once per run, with the
+    /// strain in the message; later steps are Ok; a reset starts a new run.
+    #[test]
+    fn the_linear_law_warns_once_per_run_beyond_its_strain() {
+        let (mut i, vr) = instance(Version::Fmi3, false);
+        small(&mut i, &vr);
+        i.enter_initialization();
+        assert_eq!(i.exit_initialization(), Status::Ok);
+        assert_eq!(i.set_reals(&[vr("pull")], &[1.0]), Status::Ok);
+        assert_eq!(i.do_step(0.0, 1.0), Status::Ok, "1.25 % strain");
+        assert_eq!(i.set_reals(&[vr("pull")], &[12.0]), Status::Ok);
+        assert_eq!(i.do_step(1.0, 1.0), Status::Warning);
+        let logged = i.take_messages();
+        assert_eq!(logged.len(), 1);
+        let (status, category, text) = &logged[0];
+        assert_eq!((*status, *category), (Status::Warning, "logStatusWarning"));
+        assert!(
+            text.contains("principal strain is") && text.contains("neo-hookean"),
+            "{text}"
+        );
+        assert_eq!(i.do_step(2.0, 1.0), Status::Ok, "once per run");
+        i.reset();
+        small(&mut i, &vr);
+        i.set_reals(&[vr("pull")], &[12.0]);
+        i.enter_initialization();
+        assert_eq!(
+            i.exit_initialization(),
+            Status::Warning,
+            "a new run warns again"
+        );
     }
 
     #[test]

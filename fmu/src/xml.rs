@@ -122,7 +122,7 @@ fn initial(v: &Variable) -> &'static str {
     }
 }
 
-const LOG_CATEGORIES: &str = "  <LogCategories>\n    <Category name=\"logStatusError\" description=\"errors, with the variable or cause\"/>\n    <Category name=\"logCalls\" description=\"every FMI call\"/>\n  </LogCategories>\n";
+const LOG_CATEGORIES: &str = "  <LogCategories>\n    <Category name=\"logStatusError\" description=\"errors, with the variable or cause\"/>\n    <Category name=\"logStatusWarning\" description=\"where an input takes the model beyond what it is valid for (strain, mesh)\"/>\n    <Category name=\"logCalls\" description=\"every FMI call and model build\"/>\n  </LogCategories>\n";
 
 fn header(model: &Model, version: &str, token_attribute: &str) -> String {
     format!(

@@ -11,6 +11,7 @@ use models::scene::cutblock::CutBlock;
 use models::scene::Scene;
 
 const OK: fmi2Status = 0;
+const WARNING: fmi2Status = 1;
 const ERROR: fmi2Status = 3;
 
 fn cutblock_guid() -> CString {
@@ -86,7 +87,13 @@ fn outputs_equal_the_in_process_scene_to_the_last_bit() {
     {
         assert_eq!(set(c, "pull", pull), OK);
         assert_eq!(set(c, "scalpel_x", x), OK);
-        assert_eq!(unsafe { fmi2DoStep(c, k as f64, 1.0, 1) }, OK);
+        // Beyond 5 % strain the linear law warns once (status Warning), and goes on.
+        let expected = if k == 1 { WARNING } else { OK };
+        assert_eq!(
+            unsafe { fmi2DoStep(c, k as f64, 1.0, 1) },
+            expected,
+            "step {k}"
+        );
         scene.set("pull", pull).unwrap();
         scene.set("scalpel_x", x).unwrap();
         scene.do_step(k as f64, 1.0).unwrap();
@@ -215,24 +222,24 @@ fn reset_returns_to_the_start_values() {
     unsafe { fmi2FreeInstance(c) };
 }
 
-/// A million steps of 2⁻¹⁰ s land on t = 1024 s exactly (a binary fraction: no rounding
-/// anywhere), and a million steps on fmpy's grid t_k = k · 10⁻³ s with h_k = t_{k+1} − t_k
-/// are all accepted and end within one ulp of 1000 s.
+/// 2¹⁸ steps of 2⁻¹⁰ s land on t = 256 s exactly (a binary fraction: no rounding
+/// anywhere), and 250,000 steps on fmpy's grid t_k = k · 10⁻³ s with h_k = t_{k+1} − t_k
+/// are all accepted and end within one ulp of 250 s.
 #[test]
-fn a_million_steps_land_exactly_on_the_communication_points() {
+fn many_steps_land_exactly_on_the_communication_points() {
     let c = initialized();
     let h = 1.0 / 1024.0;
-    for k in 0..1_048_576u32 {
+    for k in 0..262_144u32 {
         assert_eq!(unsafe { fmi2DoStep(c, f64::from(k) * h, h, 1) }, OK);
     }
     let mut last = 0.0;
     unsafe { fmi2GetRealStatus(c, 2, &mut last) };
-    assert_eq!(last, 1024.0);
+    assert_eq!(last, 256.0);
     unsafe { fmi2FreeInstance(c) };
 
     let c = initialized();
     let t = |k: u32| f64::from(k) * 1e-3;
-    for k in 0..1_000_000u32 {
+    for k in 0..250_000u32 {
         assert_eq!(
             unsafe { fmi2DoStep(c, t(k), t(k + 1) - t(k), 1) },
             OK,
@@ -240,7 +247,7 @@ fn a_million_steps_land_exactly_on_the_communication_points() {
         );
     }
     unsafe { fmi2GetRealStatus(c, 2, &mut last) };
-    assert!((last - 1000.0).abs() <= 1000.0 * f64::EPSILON, "{last}");
+    assert!((last - 250.0).abs() <= 250.0 * f64::EPSILON, "{last}");
     unsafe { fmi2FreeInstance(c) };
 }
 

@@ -138,8 +138,9 @@ fn cut_block_surface(bencher: Bencher, pull: f64) {
     block.set("scalpel_x", 100.0).unwrap();
     block.set("pull", pull).unwrap();
     block.do_step(0.0, 1.0).unwrap();
-    let (mesh, u) = block.field().unwrap();
-    let s = Surface::of_mesh3d(mesh);
+    let (solid, u) = block.field().unwrap();
+    let mesh = solid.corner_mesh().unwrap();
+    let s = Surface::of_mesh3d(&mesh);
     let p = s.positions(mesh.nodes(), Some(u), 3);
     let mut bvh = Bvh::build(&s, &p, BvKind::Aabb);
     bvh.refit(&s, &p, 0.05);

@@ -1,12 +1,54 @@
 //! Stress recovery, computed only when asked for: constant element stresses of triangles
-//! (plane strain) and tetrahedra, von Mises equivalent stress (seed 002 eq. 4.4), area- or
+//! (plane strain) and tetrahedra, the Cauchy stress and strain at the centroids of a
+//! [`Solid`] of any law, von Mises equivalent stress (seed 002 eq. 4.4), area- or
 //! volume-weighted nodal averages, and axial stresses of line elements.
 
-use nalgebra::{SMatrix, Vector6};
+use nalgebra::{Matrix3, SMatrix, Vector6};
 
 use crate::assembly::plane::PlaneProperties;
-use crate::element::{line2, tet4, tri3, Elastic};
+use crate::assembly::solid::Solid;
+use crate::element::{line2, tet4, tri3, Elastic, Law};
 use crate::mesh::{Mesh2d, Mesh3d};
+
+/// The state at an element's centroid: Cauchy stress, strain and the element's volume.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Centroid {
+    pub stress: Matrix3<f64>,
+    pub strain: Matrix3<f64>,
+    pub volume: f64,
+}
+
+/// The Cauchy stress and the strain at each element's centroid for displacements `u`:
+/// finite strain σ = J⁻¹ P Fᵀ and the Green–Lagrange strain ½(FᵀF − I); the linear law
+/// σ = P (small strain) and ε = sym(F − I).
+pub fn solid_centroids(solid: &Solid, u: &[f64]) -> Vec<Centroid> {
+    let m = solid.material;
+    solid
+        .centroids(u)
+        .into_iter()
+        .map(|(f, volume)| {
+            let p = m.stress(&f);
+            let (stress, strain) = match m.law {
+                Law::Linear => (p, 0.5 * (f + f.transpose()) - Matrix3::identity()),
+                _ => (
+                    p * f.transpose() / f.determinant(),
+                    0.5 * (f.transpose() * f - Matrix3::identity()),
+                ),
+            };
+            Centroid {
+                stress,
+                strain,
+                volume,
+            }
+        })
+        .collect()
+}
+
+/// von Mises stress of a symmetric 3 × 3 stress.
+pub fn mises(s: &Matrix3<f64>) -> f64 {
+    let dev = s - Matrix3::identity() * (s.trace() / 3.0);
+    (1.5 * dev.norm_squared()).sqrt()
+}
 
 /// Plane-strain stress of a triangle (MPa). σ_zz = λ(ε_xx + ε_yy) keeps ε_zz = 0.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

@@ -150,8 +150,9 @@ fn cut_block_with_closed_flanks() {
     block.set("scalpel_x", 100.0).unwrap();
     block.set("pull", -0.5).unwrap();
     block.do_step(0.0, 1.0).unwrap();
-    let (mesh, u) = block.field().unwrap();
-    let s = Surface::of_mesh3d(mesh);
+    let (solid, u) = block.field().unwrap();
+    let mesh = solid.corner_mesh().unwrap();
+    let s = Surface::of_mesh3d(&mesh);
     let p = s.positions(mesh.nodes(), Some(u), 3);
     let pairs = check(&s, &p, 0.05, "cut block, flanks pressed together");
     assert!(!pairs.is_empty());

@@ -22,13 +22,13 @@ fn material(law: Law) -> Material {
 fn block(kind: Tetrahedron, law: Law) -> (Solid, Assembler) {
     let mesh = generate::block(SIZE, [2, 3, 2]).unwrap();
     let solid = Solid::new(&mesh, kind, material(law));
-    let asm = Assembler::new(solid.nodes.len(), 3, &solid.connectivity());
+    let asm = Assembler::new(solid.nodes().len(), 3, &solid.connectivity());
     (solid, asm)
 }
 
 fn nodes_where(solid: &Solid, pred: impl Fn(&[f64; 3]) -> bool) -> Vec<usize> {
-    (0..solid.nodes.len())
-        .filter(|&n| pred(&solid.nodes[n]))
+    (0..solid.nodes().len())
+        .filter(|&n| pred(&solid.nodes()[n]))
         .collect()
 }
 
@@ -158,7 +158,7 @@ fn a_rigid_rotation_is_stress_free_at_finite_strain_only() {
             let angle = f64::from(step) * std::f64::consts::FRAC_PI_2 / 10.0;
             let (c, s) = (angle.cos(), angle.sin());
             for &n in &ends {
-                let [x, y, _] = solid.nodes[n];
+                let [x, y, _] = solid.nodes()[n];
                 prescribed[3 * n] = c * x - s * y - x;
                 prescribed[3 * n + 1] = s * x + c * y - y;
             }

@@ -1,5 +1,4 @@
 use anyhow::{Context, Result};
-use models::element::Elastic;
 use models::stress;
 
 use super::plot::{self, MeshMap};
@@ -60,10 +59,9 @@ fn abdomen(report: &mut Report) -> Result<()> {
 
 /// The default cut block, fully cut and pulled 10 mm, as a VTU file.
 fn cutblock(report: &mut Report) -> Result<()> {
-    let mut c = cutblock_pulled(10.0)?;
-    let material = Elastic::new("cutblock", c.get("E")?, c.get("nu")?)?;
-    let (mesh, u) = c.field().context("the cut block is initialized")?;
-    vtu::cutblock(&report.path("cutblock.vtu"), mesh, &material, u)?;
+    let c = cutblock_pulled(10.0)?;
+    let (solid, u) = c.field().context("the cut block is initialized")?;
+    vtu::cutblock(&report.path("cutblock.vtu"), solid, u)?;
     report.file(
         "cut block, full cut, 10 mm pull, for ParaView (displacement, von Mises)",
         "cutblock.vtu",

@@ -67,7 +67,11 @@ pub fn command(request: &Request) -> Result<Option<PathBuf>> {
         record: request.record,
     };
     let mut session = InProcess(scene::create(request.scene)?);
-    let csv = simulate(&mut session, &schedule)?.series.to_csv()?;
+    let run = simulate(&mut session, &schedule)?;
+    for w in &run.warnings {
+        eprintln!("warning: {w}");
+    }
+    let csv = run.series.to_csv()?;
     match request.out {
         Some(path) => {
             write_atomic(path, &csv)?;

@@ -4,15 +4,15 @@
 //! - abdomen: triangles (VTK_TRIANGLE) and the membrane line elements (VTK_LINE); point data
 //!   `displacement` (mm, z = 0); cell data `stress` (MPa: von Mises for triangles, axial
 //!   stress for lines) and `tissue` (0 cavity, 1 diaphragm, 2 abdominal wall, 3 pelvic floor).
-//! - cut block: tetrahedra (VTK_TETRA); point data `displacement` (mm); cell data `von_mises`
-//!   (MPa).
+//! - cut block: linear tetrahedra (VTK_TETRA) or quadratic ones (VTK_QUADRATIC_TETRA); point
+//!   data `displacement` (mm); cell data `von_mises` (MPa, Cauchy stress at the centroid).
 
 use std::path::Path;
 
 use anyhow::{anyhow, Result};
 use models::assembly::plane::PlaneProperties;
-use models::element::Elastic;
-use models::mesh::{Mesh2d, Mesh3d};
+use models::assembly::solid::{Elements, Solid};
+use models::mesh::Mesh2d;
 use models::stress;
 use vtkio::model::{
     Attribute, Attributes, ByteOrder, CellType, Cells, DataSet, UnstructuredGridPiece, Version,
@@ -107,23 +107,28 @@ pub fn abdomen(path: &Path, mesh: &Mesh2d, props: &PlaneProperties, u: &[f64]) -
     )
 }
 
-/// Writes the cut-block mesh with displacement `u` (all dofs) and von Mises stress.
-pub fn cutblock(path: &Path, mesh: &Mesh3d, material: &Elastic, u: &[f64]) -> Result<()> {
-    let points = mesh.nodes().iter().flatten().copied().collect();
-    let von_mises: Vec<f64> = stress::tet_stresses(mesh, material, u)
+/// Writes the cut block's solid (linear tetrahedra as VTK_TETRA, quadratic ones as
+/// VTK_QUADRATIC_TETRA, whose node order is the solid's) with displacement `u` (all dofs)
+/// and the von Mises stress at each element's centroid.
+pub fn cutblock(path: &Path, solid: &Solid, u: &[f64]) -> Result<()> {
+    let points = solid.nodes().iter().flatten().copied().collect();
+    let von_mises: Vec<f64> = stress::solid_centroids(solid, u)
         .iter()
-        .map(stress::von_mises)
+        .map(|c| stress::mises(&c.stress))
         .collect();
+    let cells = match &solid.elements() {
+        Elements::Tet4(t) => t.iter().map(|e| (CellType::Tetra, e.to_vec())).collect(),
+        Elements::Tet10(t) => t
+            .iter()
+            .map(|e| (CellType::QuadraticTetra, e.to_vec()))
+            .collect(),
+    };
     write(
         path,
         "tissuefmu cut block",
         Grid {
             points,
-            cells: mesh
-                .tets()
-                .iter()
-                .map(|t| (CellType::Tetra, t.to_vec()))
-                .collect(),
+            cells,
             point_data: vec![Attribute::vectors("displacement").with_data(u.to_vec())],
             cell_data: vec![Attribute::scalars("von_mises", 1).with_data(von_mises)],
         },
@@ -138,36 +143,44 @@ mod tests {
     use models::scene::Scene;
     use vtkio::model::IOBuffer;
 
-    /// The file read back by vtkio's parser holds the scene's mesh and displacement.
+    /// The file read back by vtkio's parser holds the scene's solid and displacement, for
+    /// linear and quadratic tetrahedra.
     #[test]
     fn cut_block_round_trips_through_the_vtu_reader() {
-        let mut s = CutBlock::new();
-        for (n, v) in [("cells_x", 2.0), ("cells_y", 4.0), ("cells_z", 2.0)] {
-            s.set(n, v).unwrap();
+        for (element, cell) in [
+            ("tet4", CellType::Tetra),
+            ("tet10", CellType::QuadraticTetra),
+        ] {
+            let mut s = CutBlock::new();
+            for (n, v) in [("cells_x", 2.0), ("cells_y", 4.0), ("cells_z", 2.0)] {
+                s.set(n, v).unwrap();
+            }
+            let vr = s.lookup("element").unwrap();
+            s.set_string(vr, element).unwrap();
+            s.initialize(0.0).unwrap();
+            s.set("pull", 5.0).unwrap();
+            s.do_step(0.0, 1.0).unwrap();
+            let (solid, u) = s.field().unwrap();
+            let dir = tempfile::tempdir().unwrap();
+            let path = dir.path().join("block.vtu");
+            cutblock(&path, solid, u).unwrap();
+            let vtk = Vtk::import(&path).unwrap();
+            let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+                panic!("an unstructured grid")
+            };
+            let piece = pieces[0].load_piece_data(None).unwrap();
+            assert_eq!(piece.num_points(), solid.nodes().len());
+            assert_eq!(piece.cells.types.len(), solid.len());
+            assert_eq!(piece.cells.types[0], cell);
+            let Attribute::DataArray(d) = &piece.data.point[0] else {
+                panic!("displacement is a data array")
+            };
+            let IOBuffer::F64(read) = &d.data else {
+                panic!("f64 data")
+            };
+            assert_eq!(read, u);
+            assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
         }
-        s.initialize(0.0).unwrap();
-        s.set("pull", 5.0).unwrap();
-        s.do_step(0.0, 1.0).unwrap();
-        let (mesh, u) = s.field().unwrap();
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("block.vtu");
-        let material = Elastic::new("block", 0.05, 0.45).unwrap();
-        cutblock(&path, mesh, &material, u).unwrap();
-        let vtk = Vtk::import(&path).unwrap();
-        let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
-            panic!("an unstructured grid")
-        };
-        let piece = pieces[0].load_piece_data(None).unwrap();
-        assert_eq!(piece.num_points(), mesh.nodes().len());
-        assert_eq!(piece.cells.types.len(), mesh.tets().len());
-        let Attribute::DataArray(d) = &piece.data.point[0] else {
-            panic!("displacement is a data array")
-        };
-        let IOBuffer::F64(read) = &d.data else {
-            panic!("f64 data")
-        };
-        assert_eq!(read, u);
-        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
     }
 
     /// Triangles and membrane lines both arrive, each with its stress and tissue.

@@ -88,4 +88,8 @@ impl<S: Scene + ?Sized> Session for InProcess<S> {
     fn get(&mut self, r: Reference, out: &mut [f64]) -> Result<()> {
         Ok(self.0.get_real(r.vr, out)?)
     }
+
+    fn take_warnings(&mut self) -> Vec<String> {
+        self.0.take_warnings()
+    }
 }

@@ -194,13 +194,18 @@ pub fn run(e: &Experiment, dir: &Path) -> Result<Sweep> {
     })
 }
 
-/// Runs one case; a panic is turned into its failure, like an error.
-fn run_case(backend: &Backend, e: &Experiment, settings: &[(String, Value)]) -> Result<Series> {
+/// Runs one case, giving its series and the model's warnings; a panic is
+/// turned into its failure, like an error.
+fn run_case(
+    backend: &Backend,
+    e: &Experiment,
+    settings: &[(String, Value)],
+) -> Result<(Series, Vec<String>)> {
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         backend
             .open()
             .and_then(|mut s| simulate(s.as_mut(), &e.schedule(settings)))
-            .map(|run| run.series)
+            .map(|run| (run.series, run.warnings))
     }))
     .unwrap_or_else(|panic| {
         let what = panic
@@ -213,10 +218,19 @@ fn run_case(backend: &Backend, e: &Experiment, settings: &[(String, Value)]) -> 
 }
 
 /// Writes a case's result: its CSV (removing an earlier failure), or its error.
-fn record(dir: &Path, id: usize, outcome: Result<Series>, bar: &ProgressBar) -> Result<()> {
+/// The model's warnings are printed above the progress bar.
+fn record(
+    dir: &Path,
+    id: usize,
+    outcome: Result<(Series, Vec<String>)>,
+    bar: &ProgressBar,
+) -> Result<()> {
     let error = case_path(dir, id, "error");
     match outcome {
-        Ok(series) => {
+        Ok((series, warnings)) => {
+            for w in warnings {
+                bar.println(format!("case {id}: warning: {w}"));
+            }
             write_atomic(&case_path(dir, id, "csv"), &series.to_csv()?)?;
             if error.is_file() {
                 std::fs::remove_file(&error)?;

@@ -145,6 +145,11 @@ pub trait Session {
     fn step(&mut self, t: f64, h: f64) -> Result<()>;
     /// Reads all values of the variable into `out` (of length `r.len`).
     fn get(&mut self, r: Reference, out: &mut [f64]) -> Result<()>;
+    /// The scene's warnings since the last call (where an input took the model beyond its
+    /// validity); none by default.
+    fn take_warnings(&mut self) -> Vec<String> {
+        Vec::new()
+    }
 }
 
 /// What a run does: parameters before initialization, inputs over time, the outputs to
@@ -213,6 +218,8 @@ pub struct Run {
     pub setup: Duration,
     /// All steps together (without the output reads).
     pub stepping: Duration,
+    /// The scene's warnings, in order.
+    pub warnings: Vec<String>,
 }
 
 /// Runs `schedule` on `session`.
@@ -272,6 +279,7 @@ pub fn simulate_observed<S: Session + ?Sized>(
     set_inputs(session, t0)?;
     session.initialize(t0)?;
     let setup = start.elapsed();
+    let mut warnings = session.take_warnings();
     observe(session, t0)?;
     let mut rows = vec![outputs(session, t0)?];
     let mut stepping = Duration::ZERO;
@@ -283,6 +291,7 @@ pub fn simulate_observed<S: Session + ?Sized>(
             .step(t, next - t)
             .with_context(|| format!("step at t = {t} s"))?;
         stepping += begin.elapsed();
+        warnings.extend(session.take_warnings());
         observe(session, next)?;
         rows.push(outputs(session, next)?);
     }
@@ -290,6 +299,7 @@ pub fn simulate_observed<S: Session + ?Sized>(
         series: Series { names, rows },
         setup,
         stepping,
+        warnings,
     })
 }
 

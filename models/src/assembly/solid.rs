@@ -3,11 +3,11 @@
 //! tetrahedra of one material law — whose internal forces and tangent go through the total
 //! Lagrangian kernel ([`crate::element::solid`]) for the nonlinear solver.
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{Matrix3, SMatrix, SVector};
 
 use super::plane::Continuum;
 use super::Assembler;
-use crate::element::solid::{internal, Shape, Tet10, Tet4};
+use crate::element::solid::{deformation_at, internal, Reference, Shape, Tet10, Tet4};
 use crate::element::{tet4, Material};
 use crate::error::ModelError;
 use crate::mesh::{Mesh3d, QuadraticMesh};
@@ -49,11 +49,13 @@ pub enum Elements {
     Tet10(Vec<[usize; 10]>),
 }
 
-/// Tetrahedra of one material law on their nodes.
+/// Tetrahedra of one material law on their nodes, with each element's reference
+/// configuration (computed once).
 #[derive(Debug, Clone)]
 pub struct Solid {
-    pub nodes: Vec<[f64; 3]>,
-    pub elements: Elements,
+    nodes: Vec<[f64; 3]>,
+    elements: Elements,
+    reference: Vec<Reference>,
     pub material: Material,
 }
 
@@ -62,20 +64,85 @@ impl Solid {
     /// corner nodes keep their numbers).
     pub fn new(mesh: &Mesh3d, kind: Tetrahedron, material: Material) -> Self {
         match kind {
-            Tetrahedron::Tet4 => Self {
-                nodes: mesh.nodes().to_vec(),
-                elements: Elements::Tet4(mesh.tets().to_vec()),
-                material,
-            },
-            Tetrahedron::Tet10 => {
-                let q = QuadraticMesh::new(mesh);
-                Self {
-                    nodes: q.nodes().to_vec(),
-                    elements: Elements::Tet10(q.tets().to_vec()),
-                    material,
-                }
-            }
+            Tetrahedron::Tet4 => Self::linear(mesh, material),
+            Tetrahedron::Tet10 => Self::quadratic(&QuadraticMesh::new(mesh), material),
         }
+    }
+
+    /// Linear tetrahedra on `mesh`.
+    pub fn linear(mesh: &Mesh3d, material: Material) -> Self {
+        Self::on(
+            mesh.nodes().to_vec(),
+            Elements::Tet4(mesh.tets().to_vec()),
+            material,
+        )
+    }
+
+    /// Quadratic tetrahedra on `mesh`.
+    pub fn quadratic(mesh: &QuadraticMesh, material: Material) -> Self {
+        Self::on(
+            mesh.nodes().to_vec(),
+            Elements::Tet10(mesh.tets().to_vec()),
+            material,
+        )
+    }
+
+    fn on(nodes: Vec<[f64; 3]>, elements: Elements, material: Material) -> Self {
+        let mut s = Self {
+            nodes,
+            elements,
+            reference: Vec::new(),
+            material,
+        };
+        s.reference = (0..s.len())
+            .map(|e| Reference::new(&s.corners(e).map(|n| s.nodes[n])))
+            .collect();
+        s
+    }
+
+    /// The nodes (corners first).
+    pub fn nodes(&self) -> &[[f64; 3]] {
+        &self.nodes
+    }
+
+    pub fn elements(&self) -> &Elements {
+        &self.elements
+    }
+
+    /// Which tetrahedron.
+    pub fn kind(&self) -> Tetrahedron {
+        match self.elements {
+            Elements::Tet4(_) => Tetrahedron::Tet4,
+            Elements::Tet10(_) => Tetrahedron::Tet10,
+        }
+    }
+
+    /// The corner nodes of element `e`.
+    pub fn corners(&self, e: usize) -> [usize; 4] {
+        match &self.elements {
+            Elements::Tet4(t) => t[e],
+            Elements::Tet10(t) => [t[e][0], t[e][1], t[e][2], t[e][3]],
+        }
+    }
+
+    /// Number of elements.
+    pub fn len(&self) -> usize {
+        match &self.elements {
+            Elements::Tet4(t) => t.len(),
+            Elements::Tet10(t) => t.len(),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The mesh of linear tetrahedra on the corner nodes (which come first), with its
+    /// boundary faces: for surfaces, searches and files that need only the corners.
+    pub fn corner_mesh(&self) -> Result<Mesh3d, ModelError> {
+        let tets: Vec<[usize; 4]> = (0..self.len()).map(|e| self.corners(e)).collect();
+        let corners = tets.iter().flatten().max().map_or(0, |&n| n + 1);
+        Mesh3d::new(self.nodes[..corners].to_vec(), tets)
     }
 
     pub fn n_dofs(&self) -> usize {
@@ -99,13 +166,35 @@ impl Solid {
         f: &mut [f64],
         k: Option<&mut [f64]>,
     ) -> Result<(), ModelError> {
+        let (r, m) = (&self.reference, &self.material);
         match &self.elements {
-            Elements::Tet4(e) => add::<Tet4, 4, 12>(&self.nodes, e, &self.material, asm, u, f, k),
-            Elements::Tet10(e) => {
-                add::<Tet10, 10, 30>(&self.nodes, e, &self.material, asm, u, f, k)
-            }
+            Elements::Tet4(e) => add::<Tet4, 4, 12>(r, e, m, asm, u, f, k),
+            Elements::Tet10(e) => add::<Tet10, 10, 30>(r, e, m, asm, u, f, k),
         }
     }
+
+    /// The deformation gradient at each element's centroid and the element's volume.
+    pub fn centroids(&self, u: &[f64]) -> Vec<(Matrix3<f64>, f64)> {
+        match &self.elements {
+            Elements::Tet4(e) => centroids::<Tet4, 4, 12>(&self.reference, e, u),
+            Elements::Tet10(e) => centroids::<Tet10, 10, 30>(&self.reference, e, u),
+        }
+    }
+}
+
+fn centroids<S: Shape<N>, const N: usize, const D: usize>(
+    reference: &[Reference],
+    elements: &[[usize; N]],
+    u: &[f64],
+) -> Vec<(Matrix3<f64>, f64)> {
+    elements
+        .iter()
+        .zip(reference)
+        .map(|(el, r)| {
+            let ue = SVector::<f64, D>::from_fn(|row, _| u[3 * el[row / 3] + row % 3]);
+            (deformation_at::<S, N, D>(r, &ue, &[0.25; 4]), r.volume)
+        })
+        .collect()
 }
 
 /// A solid on its own pattern is a system of equations for the Newton solver.
@@ -130,7 +219,7 @@ impl Equations for Body<'_> {
 }
 
 fn add<S: Shape<N>, const N: usize, const D: usize>(
-    nodes: &[[f64; 3]],
+    reference: &[Reference],
     elements: &[[usize; N]],
     material: &Material,
     asm: &Assembler,
@@ -139,13 +228,12 @@ fn add<S: Shape<N>, const N: usize, const D: usize>(
     mut k: Option<&mut [f64]>,
 ) -> Result<(), ModelError> {
     let mut ke = SMatrix::<f64, D, D>::zeros();
-    for (e, el) in elements.iter().enumerate() {
-        let corners = [0, 1, 2, 3].map(|i| nodes[el[i]]);
-        let ue = SVector::<f64, D>::from_fn(|r, _| u[3 * el[r / 3] + r % 3]);
+    for (e, (el, r)) in elements.iter().zip(reference).enumerate() {
+        let ue = SVector::<f64, D>::from_fn(|row, _| u[3 * el[row / 3] + row % 3]);
         let mut fe = SVector::<f64, D>::zeros();
         ke.fill(0.0);
         let tangent = k.is_some().then_some(&mut ke);
-        internal::<S, N, D>(&corners, &ue, material, &mut fe, tangent).map_err(|inv| {
+        internal::<S, N, D>(r, &ue, material, &mut fe, tangent).map_err(|inv| {
             ModelError::Inverted {
                 element: e,
                 j: inv.j,

@@ -55,6 +55,21 @@ impl Shape<10> for Tet10 {
     }
 }
 
+/// An element's reference configuration: the corner gradients ∇λ_k (rows, constant on a
+/// straight-edged tetrahedron) and the volume.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reference {
+    pub gradients: SMatrix<f64, 4, 3>,
+    pub volume: f64,
+}
+
+impl Reference {
+    pub fn new(corners: &[[f64; 3]; 4]) -> Self {
+        let (gradients, volume) = tet4::gradients(corners);
+        Self { gradients, volume }
+    }
+}
+
 /// An inverted element: the smallest J = det F found at its quadrature points.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Inverted {
@@ -77,19 +92,28 @@ fn deformation<const N: usize, const D: usize>(
     f
 }
 
-/// Adds the internal force of one element (corners `corners`, node-major displacements `u`)
-/// to `force`, and its tangent to `tangent` when given. D = 3N.
+/// The deformation gradient at barycentric λ of one element.
+pub fn deformation_at<S: Shape<N>, const N: usize, const D: usize>(
+    reference: &Reference,
+    u: &SVector<f64, D>,
+    l: &[f64; 4],
+) -> Matrix3<f64> {
+    deformation(u, &S::gradients(l, &reference.gradients))
+}
+
+/// Adds the internal force of one element (reference configuration `reference`, node-major
+/// displacements `u`) to `force`, and its tangent to `tangent` when given. D = 3N.
 pub fn internal<S: Shape<N>, const N: usize, const D: usize>(
-    corners: &[[f64; 3]; 4],
+    reference: &Reference,
     u: &SVector<f64, D>,
     material: &Material,
     force: &mut SVector<f64, D>,
     mut tangent: Option<&mut SMatrix<f64, D, D>>,
 ) -> Result<(), Inverted> {
     debug_assert_eq!(D, 3 * N);
-    let (g, volume) = tet4::gradients(corners);
+    let (g, volume) = (&reference.gradients, reference.volume);
     for (l, w) in S::RULE {
-        let grads = S::gradients(l, &g);
+        let grads = S::gradients(l, g);
         let f = deformation(u, &grads);
         if material.law.finite() {
             let j = f.determinant();
@@ -170,15 +194,15 @@ mod tests {
             let m = material(law);
             let mut f = SVector::zeros();
             let mut k = SMatrix::<f64, D, D>::zeros();
-            internal::<S, N, D>(&P, &u, &m, &mut f, Some(&mut k)).unwrap();
+            internal::<S, N, D>(&Reference::new(&P), &u, &m, &mut f, Some(&mut k)).unwrap();
             let h = 1e-6;
             for c in 0..D {
                 let (mut up, mut um) = (u, u);
                 up[c] += h;
                 um[c] -= h;
                 let (mut fp, mut fm) = (SVector::zeros(), SVector::zeros());
-                internal::<S, N, D>(&P, &up, &m, &mut fp, None).unwrap();
-                internal::<S, N, D>(&P, &um, &m, &mut fm, None).unwrap();
+                internal::<S, N, D>(&Reference::new(&P), &up, &m, &mut fp, None).unwrap();
+                internal::<S, N, D>(&Reference::new(&P), &um, &m, &mut fm, None).unwrap();
                 let fd = (fp - fm) / (2.0 * h);
                 let err = (fd - k.column(c)).amax();
                 assert!(err <= 1e-6 * k.amax(), "{law:?} column {c}: {err:e}");
@@ -202,7 +226,7 @@ mod tests {
         let m = material(Law::Linear);
         let (mut f, mut k) = (SVector::<f64, 12>::zeros(), SMatrix::<f64, 12, 12>::zeros());
         let u: SVector<f64, 12> = distorted(0.3);
-        internal::<Tet4, 4, 12>(&P, &u, &m, &mut f, Some(&mut k)).unwrap();
+        internal::<Tet4, 4, 12>(&Reference::new(&P), &u, &m, &mut f, Some(&mut k)).unwrap();
         let closed = tet4::stiffness(&P, &m.elastic.solid());
         assert!((k - closed).amax() < 1e-13 * closed.amax());
         assert!((f - closed * u).amax() < 1e-13 * f.amax());
@@ -215,7 +239,7 @@ mod tests {
         u[11] = -2.5; // node 3 pushed through the opposite face
         for law in Law::ALL {
             let mut f = SVector::zeros();
-            let r = internal::<Tet4, 4, 12>(&P, &u, &material(law), &mut f, None);
+            let r = internal::<Tet4, 4, 12>(&Reference::new(&P), &u, &material(law), &mut f, None);
             assert_eq!(r.is_err(), law.finite(), "{law:?}");
         }
     }

@@ -71,6 +71,13 @@ pub trait Scene: Send {
     /// the caller's time `t` (the FMI time), whatever the start time.
     fn do_step(&mut self, t: f64, h: f64) -> Result<(), SceneError>;
 
+    /// Warnings since the last call, each once per run: where an input has taken the
+    /// model beyond what it is valid for (strain, mesh resolution). The FMUs log them with
+    /// status Warning.
+    fn take_warnings(&mut self) -> Vec<String> {
+        Vec::new()
+    }
+
     /// Tells the scene where its resources (shipped configuration files) are; scenes that
     /// read none ignore it.
     fn set_resource_dir(&mut self, _dir: &std::path::Path) {}

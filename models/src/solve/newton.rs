@@ -196,6 +196,15 @@ impl Newton {
         &self.f
     }
 
+    /// Declares the caller's displacement an equilibrium under this load (after it restored
+    /// an earlier state): the next solve starts its increments from here.
+    pub fn restart(&mut self, prescribed: &[f64], external: &[f64]) {
+        for &d in self.bc.constrained() {
+            self.prescribed[d] = prescribed[d];
+        }
+        self.external.copy_from_slice(external);
+    }
+
     /// Moves `u` from the last equilibrium to equilibrium under the prescribed values
     /// `prescribed` (read at the constrained dofs) and the external forces `external` (all
     /// dofs). On failure `u` keeps the last equilibrium.

@@ -99,7 +99,7 @@ pub fn run(out: &mut String) -> Result<()> {
         uncut_settings.push(("cut_depth", 0.0));
         let mut uncut = solved(&uncut_settings, &[], &CUT_AND_PULL)?;
         let mut cut = solved(&cells, &[], &CUT_AND_PULL)?;
-        let tets = cut.field().map_or(0, |(mesh, _)| mesh.tets().len());
+        let tets = cut.field().map_or(0, |(solid, _)| solid.len());
         writeln!(
             out,
             "   {m:>8} {tets:>10} {:>12.4} {:>12.4}",

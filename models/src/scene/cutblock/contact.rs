@@ -1,24 +1,28 @@
 //! Contact of the cut flanks (issue "self-contact"): when a press or a negative pull closes
 //! the incision, the flank facets are searched for facing pairs (the seed-001 search in
 //! `crate::contact`) and non-penetration is enforced node-to-facet by penalty springs, with an
-//! active-set loop: solve, search, activate every flank node found behind a facing flank facet
-//! of its twin's neighbourhood, re-solve, until the active set repeats.
+//! active-set loop: solve, search, hold every flank node found behind a facing flank facet
+//! of its twin's neighbourhood, release every held node whose spring would pull, re-solve,
+//! until the set repeats. Quadratic flank faces take part as their four sub-triangles
+//! (corners and mid-edge nodes), so mid-edge nodes are held too.
 //!
 //! The search tolerance is h, the y size of the cell in front of the cut: facing flank
 //! facets closer than that are candidates, and the signed node-to-facet gap decides (flat
 //! flanks that have slid through each other neither touch nor cross, so a proximity search
 //! with a small tolerance would miss them).
 //!
-//! A node joins the active set when it lies behind a facing flank facet (g < 0) and leaves it
-//! only when its gap opens beyond 0.01 h: without this hysteresis, nodes held by stiff
-//! springs sit within the linearization error of g = 0 and flip in and out of the set.
+//! No adhesion: a spring pushes (g < 0 at equilibrium) or is released. A node joins the set
+//! when it lies behind a facing flank facet (g < 0) and leaves it when the gap of its spring
+//! at the new equilibrium is no longer negative, i.e. when the spring would pull the flanks
+//! together. The set found is then the same whatever the loading history (a block closed and
+//! then pulled open ends with no springs, as a block pulled open at once).
 //!
-//! Penalty stiffness k_p = 1000 · E · h (N/mm):
-//! a thousand times the axial stiffness of that cell per unit face area, so the penetration
-//! under a contact force F is F / k_p (checked by the tests against a stated tolerance).
-//! The gap of node s against facet m (unit outward normal n, barycentric weights N_i of the
-//! projection of s) is g = n · (x_s − Σ N_i x_i); it is linearized with n and N_i frozen per
-//! iteration, g = g₀ + Bᵀu, giving the element stiffness k_p B Bᵀ and load −k_p g₀ B.
+//! Penalty stiffness k_p = 1000 · E · h (N/mm): a thousand times the axial stiffness of that
+//! cell per unit face area, so the penetration under a contact force F is F / k_p. The gap of
+//! node s against facet m (unit outward normal n, barycentric weights N_i of the projection
+//! of s) is g = n · (x_s − Σ N_i x_i) on the deformed configuration; with n and N_i frozen
+//! per active-set iteration it is linear in u, g = g₀ + Bᵀu, giving the force k_p g B and the
+//! stiffness k_p B Bᵀ (in the linear model the load −k_p g₀ B).
 //!
 //! The pattern includes, once per topology, a potential contact element between each flank
 //! node and each facet of the opposite flank around its twin (small sliding), so activating
@@ -30,16 +34,12 @@ use nalgebra::{SMatrix, SVector, Vector3};
 
 use crate::assembly::Assembler;
 use crate::contact::{sorting, BvKind, Bvh, Search, Surface};
-use crate::mesh::Mesh3d;
 
 /// Penalty stiffness per (E · h).
 pub const PENALTY_FACTOR: f64 = 1000.0;
 
 /// Tree degradation (see `Bvh::degradation`) beyond which the flank tree is rebuilt.
 pub const REBUILD_DEGRADATION: f64 = 1.5;
-
-/// Release gap of a held node per h.
-pub const RELEASE_FACTOR: f64 = 0.01;
 
 /// One active contact: element index in the assembler, the held node, B vector, g₀.
 #[derive(Debug, Clone, PartialEq)]
@@ -60,9 +60,6 @@ pub struct FlankContact {
     /// Node lists of the candidate elements: [slave, master₀, master₁, master₂].
     pub elements: Vec<[usize; 4]>,
     tolerance: f64,
-    /// A held node is released only once its gap exceeds this (hysteresis: the gap of a
-    /// held node is of the order of the linearization error, not of F / k_p).
-    release: f64,
     first_element: usize,
     /// The springs of the current factorization.
     pub active: Vec<Spring>,
@@ -71,32 +68,22 @@ pub struct FlankContact {
 }
 
 impl FlankContact {
-    /// The flank facets (boundary faces whose nodes all lie on a flank) and the candidate
-    /// elements; `first_element` is the assembler index of the first candidate. `None` if
-    /// there are no flank facets.
+    /// Contact of the flank `facets` (triangles of flank nodes, outward), for the facing
+    /// node pairs `flank_pairs`; `first_element` is the assembler index of the first
+    /// candidate element. `None` if there are no flank facets.
     pub fn new(
-        mesh: &Mesh3d,
+        nodes: &[[f64; 3]],
+        facets: Vec<[usize; 3]>,
         flank_pairs: &[(usize, usize)],
         first_element: usize,
         h: f64,
     ) -> Option<Self> {
-        let mut on_flank = vec![false; mesh.nodes().len()];
-        for &(f, b) in flank_pairs {
-            on_flank[f] = true;
-            on_flank[b] = true;
-        }
-        let faces: Vec<[usize; 3]> = mesh
-            .boundary()
-            .iter()
-            .map(|f| f.nodes)
-            .filter(|f| f.iter().all(|&n| on_flank[n]))
-            .collect();
-        if faces.is_empty() {
+        if facets.is_empty() {
             return None;
         }
-        let surface = Surface::new(3, &faces);
+        let surface = Surface::new(3, &facets);
         let mut facets_at: HashMap<usize, Vec<usize>> = HashMap::new();
-        for (i, f) in faces.iter().enumerate() {
+        for (i, f) in facets.iter().enumerate() {
             for &n in f {
                 facets_at.entry(n).or_default().push(i);
             }
@@ -106,7 +93,7 @@ impl FlankContact {
         for &(front, back) in flank_pairs {
             for (slave, twin) in [(front, back), (back, front)] {
                 for &facet in facets_at.get(&twin).into_iter().flatten() {
-                    let f = faces[facet];
+                    let f = facets[facet];
                     if f.contains(&slave) {
                         continue;
                     }
@@ -115,7 +102,7 @@ impl FlankContact {
                 }
             }
         }
-        let positions = surface.positions(mesh.nodes(), None, 3);
+        let positions = surface.positions(nodes, None, 3);
         let bvh = Bvh::build(&surface, &positions, BvKind::Aabb);
         Some(Self {
             surface,
@@ -123,7 +110,6 @@ impl FlankContact {
             candidates,
             elements,
             tolerance: h,
-            release: RELEASE_FACTOR * h,
             first_element,
             active: Vec::new(),
             penetration: 0.0,
@@ -131,9 +117,10 @@ impl FlankContact {
     }
 
     /// Searches the deformed flanks (displacements `u`) and returns the springs that should
-    /// be active, sorted; also updates `penetration`.
-    pub fn detect(&mut self, mesh: &Mesh3d, u: &[f64]) -> Vec<Spring> {
-        let positions = self.surface.positions(mesh.nodes(), Some(u), 3);
+    /// be active, sorted: every node behind a facing facet, and every held node whose spring
+    /// still pushes; also updates `penetration`.
+    pub fn detect(&mut self, nodes: &[[f64; 3]], u: &[f64]) -> Vec<Spring> {
+        let positions = self.surface.positions(nodes, Some(u), 3);
         self.bvh.refit(&self.surface, &positions, self.tolerance);
         if self.bvh.degradation() > REBUILD_DEGRADATION {
             self.bvh = Bvh::build(&self.surface, &positions, BvKind::Aabb);
@@ -147,11 +134,10 @@ impl FlankContact {
             for (slave_facet, master) in [(o.slave, o.master), (o.master, o.slave)] {
                 for &local in &self.surface.facets[slave_facet] {
                     let node = self.surface.nodes[local];
-                    let Some((g, g0, b)) = gap(mesh, u, node, self.mesh_facet(master)) else {
+                    let Some((g, g0, b)) = gap(nodes, u, node, self.mesh_facet(master)) else {
                         continue;
                     };
-                    let held = self.active.iter().any(|s| s.node == node);
-                    if g >= if held { self.release } else { 0.0 } {
+                    if g >= 0.0 {
                         continue;
                     }
                     self.penetration = self.penetration.max(-g);
@@ -173,15 +159,11 @@ impl FlankContact {
             }
         }
         // A held node the search no longer sees (its projection slid off the facet's edge)
-        // stays held while its own linearized gap is below the release gap.
+        // stays held while its spring still pushes (its own linearized gap is negative).
         for s in &self.active {
             if let std::collections::hash_map::Entry::Vacant(slot) = best.entry(s.node) {
-                let nodes = self.elements[s.element - self.first_element];
-                let g = s.g0
-                    + (0..12)
-                        .map(|k| s.b[k] * u[3 * nodes[k / 3] + k % 3])
-                        .sum::<f64>();
-                if g < self.release {
+                let g = self.gap_of(s, u);
+                if g < 0.0 {
                     self.penetration = self.penetration.max(-g);
                     slot.insert((-g, s.clone()));
                 }
@@ -214,6 +196,27 @@ impl FlankContact {
         }
     }
 
+    /// The linearized gap g₀ + Bᵀu of a spring.
+    fn gap_of(&self, s: &Spring, u: &[f64]) -> f64 {
+        let nodes = self.elements[s.element - self.first_element];
+        s.g0 + (0..12)
+            .map(|k| s.b[k] * u[3 * nodes[k / 3] + k % 3])
+            .sum::<f64>()
+    }
+
+    /// Adds the spring forces k_p (g₀ + Bᵀu) B of the active springs to `f`.
+    pub fn add_forces(&self, penalty: f64, u: &[f64], f: &mut [f64]) {
+        for s in &self.active {
+            let g = self.gap_of(s, u);
+            let nodes = self.elements[s.element - self.first_element];
+            for (i, &n) in nodes.iter().enumerate() {
+                for d in 0..3 {
+                    f[3 * n + d] += penalty * g * s.b[3 * i + d];
+                }
+            }
+        }
+    }
+
     /// Adds −k_p g₀ B of the active springs to `f`.
     pub fn add_loads(&self, penalty: f64, f: &mut [f64]) {
         for s in &self.active {
@@ -227,17 +230,15 @@ impl FlankContact {
     }
 }
 
-/// Gap of mesh node `node` against facet `m` (outward normal from the node order) at
+/// Gap of node `node` against facet `m` (outward normal from the node order) at
 /// displacements `u`: (g, g₀, B), or `None` if the projection misses the facet.
 fn gap(
-    mesh: &Mesh3d,
+    nodes: &[[f64; 3]],
     u: &[f64],
     node: usize,
     m: [usize; 3],
 ) -> Option<(f64, f64, SVector<f64, 12>)> {
-    let x = |n: usize| {
-        Vector3::from(mesh.nodes()[n]) + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2])
-    };
+    let x = |n: usize| Vector3::from(nodes[n]) + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]);
     let (a, b, c, s) = (x(m[0]), x(m[1]), x(m[2]), x(node));
     let normal = (b - a).cross(&(c - a));
     let area2 = normal.norm();
@@ -259,7 +260,7 @@ fn gap(
             bvec[3 * (i + 1) + d] = -l * n[d];
         }
     }
-    let reference = |k: usize| Vector3::from(mesh.nodes()[k]);
+    let reference = |k: usize| Vector3::from(nodes[k]);
     let x0 = reference(node)
         - weights
             .iter()

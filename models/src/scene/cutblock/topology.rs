@@ -1,309 +1,319 @@
-//! Geometry (node planes, snapping, supports) and the current topology of the cut block:
-//! the cut mesh, its pattern, factorization and last solution.
+//! The current topology of the cut block: the cut mesh, its solid (linear or quadratic
+//! tetrahedra of one material law), the pattern, the solver, the contact of the flanks and
+//! the last equilibrium.
+//!
+//! Two solvers: the linear law keeps one factorization of K (with the active contact
+//! springs) per material, topology and contact set, so a new load costs one solve; a
+//! finite-strain law goes from the last equilibrium to the new load with Newton's method
+//! ([`crate::solve::newton`]) in increments of at most `max_increment` of pull.
 
 use super::contact::{FlankContact, PENALTY_FACTOR};
-use crate::assembly::plane::Continuum;
-use crate::assembly::{loads, solid, Assembler};
-use crate::element::Elastic;
-use crate::mesh::cut::{self, CutMesh, Incision};
-use crate::mesh::{generate, Mesh3d};
+use super::geometry::{Geometry, Strategy, Support};
+use super::profiles::TopSurface;
+use crate::assembly::solid::{Solid, Tetrahedron};
+use crate::assembly::{loads, mul_add, Assembler};
+use crate::element::Material;
+use crate::error::ModelError;
+use crate::mesh::cut::{self, CutMesh};
+use crate::mesh::{Mesh3d, QuadraticMesh};
 use crate::scene::SceneError;
+use crate::solve::newton::{Equations, Newton, Settings};
 use crate::solve::{Factorization, Statics};
-
-/// How the incision is made (seed 002 §1.4 / §3.4).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Strategy {
-    Duplicate,
-    Delete,
-}
-
-impl Strategy {
-    pub fn parse(s: &str) -> Result<Self, SceneError> {
-        match s {
-            "duplicate" => Ok(Self::Duplicate),
-            "delete" => Ok(Self::Delete),
-            _ => Err(SceneError::Config(format!(
-                "cut_strategy `{s}`: use `duplicate` or `delete`"
-            ))),
-        }
-    }
-}
-
-/// Supports of the end faces.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Support {
-    /// The experiment (seed 002 §2.1): y = 0 clamped; y = L u_y prescribed, u_x, u_z free.
-    Clamped,
-    /// Only u_y on both end faces, plus the three constraints that remove rigid motions
-    /// (u_x, u_z at the origin, u_z at (L_x, 0, 0)): a state of exact uniaxial tension.
-    Sliding,
-    /// Both faces held in rigid grips: y = 0 clamped; y = L moved in y with u_x = u_z = 0.
-    Gripped,
-}
-
-impl Support {
-    pub fn parse(s: &str) -> Result<Self, SceneError> {
-        match s {
-            "clamped" => Ok(Self::Clamped),
-            "sliding" => Ok(Self::Sliding),
-            "gripped" => Ok(Self::Gripped),
-            _ => Err(SceneError::Config(format!(
-                "support `{s}`: use `clamped`, `sliding` or `gripped`"
-            ))),
-        }
-    }
-}
-
-/// The choices of how the block is cut, held and kept from interpenetrating.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Options {
-    pub strategy: Strategy,
-    pub support: Support,
-    /// Whether closing flanks are kept apart (penalty contact).
-    pub contact: bool,
-}
-
-/// The uncut block and where the incision can go.
-#[derive(Debug, Clone)]
-pub struct Geometry {
-    pub size: [f64; 3],
-    pub base: Mesh3d,
-    pub x_planes: Vec<f64>,
-    /// Incision plane and the bottom of the incision (z); `None` for depth 0.
-    pub y_cut: f64,
-    pub z_cut: Option<f64>,
-    /// Thickness of the element layer removed by the deletion strategy.
-    pub layer: f64,
-    pub press_radius: f64,
-    pub options: Options,
-}
-
-/// Uniform planes over [0, length]; if `target` lies strictly inside, the nearest interior
-/// plane is moved onto it (it moves by at most half a cell, so the order is kept).
-fn planes(length: f64, cells: usize, target: Option<f64>) -> Vec<f64> {
-    let mut p: Vec<f64> = (0..=cells)
-        .map(|i| length * i as f64 / cells as f64)
-        .collect();
-    if let Some(t) = target.filter(|&t| t > 0.0 && t < length) {
-        let nearest = (1..cells).min_by(|&a, &b| (p[a] - t).abs().total_cmp(&(p[b] - t).abs()));
-        if let Some(i) = nearest {
-            p[i] = t;
-        }
-    }
-    p
-}
-
-impl Geometry {
-    pub fn new(
-        size: [f64; 3],
-        cells: [usize; 3],
-        y_cut: f64,
-        depth: f64,
-        press_radius: f64,
-        options: Options,
-    ) -> Result<Self, SceneError> {
-        if !(y_cut > 0.0 && y_cut < size[1]) {
-            return Err(SceneError::Config(format!(
-                "y_cut = {y_cut} mm must lie inside the block (0, {})",
-                size[1]
-            )));
-        }
-        if cells[1] < 2 {
-            return Err(SceneError::Config(
-                "cells_y must be at least 2 to place a node plane at y_cut".into(),
-            ));
-        }
-        let z_cut = (depth > 0.0).then(|| (size[2] - depth).max(0.0));
-        let x_planes = planes(size[0], cells[0], None);
-        let y_planes = planes(size[1], cells[1], Some(y_cut));
-        let z_planes = planes(size[2], cells[2], z_cut);
-        let at = y_planes
-            .iter()
-            .position(|&y| y == y_cut)
-            .expect("snapped above");
-        let base = generate::block_on_planes(&[x_planes.clone(), y_planes.clone(), z_planes])?;
-        Ok(Self {
-            size,
-            base,
-            x_planes,
-            y_cut,
-            z_cut,
-            layer: y_cut - y_planes[at - 1],
-            press_radius,
-            options,
-        })
-    }
-
-    /// Whole x-cells behind the scalpel at `x` (0 without a cut).
-    pub fn cut_cells(&self, x: f64) -> usize {
-        if self.z_cut.is_none() {
-            return 0;
-        }
-        let tol = 1e-9 * self.size[0];
-        self.x_planes[1..]
-            .iter()
-            .take_while(|&&p| p <= x + tol)
-            .count()
-    }
-
-    fn cut(&self, cells: usize) -> Result<CutMesh, SceneError> {
-        let (Some(z0), true) = (self.z_cut, cells > 0) else {
-            return Ok(CutMesh {
-                mesh: self.base.clone(),
-                flank_pairs: vec![],
-            });
-        };
-        let incision = Incision {
-            y: self.y_cut,
-            x: (0.0, self.x_planes[cells]),
-            z: (z0, self.size[2]),
-        };
-        Ok(match self.options.strategy {
-            Strategy::Duplicate => cut::split(&self.base, &incision)?,
-            Strategy::Delete => cut::delete(&self.base, &incision, self.layer)?,
-        })
-    }
-}
 
 /// Largest number of solves per step while the contact set changes.
 const CONTACT_ITERATIONS: usize = 25;
 
-/// Everything that depends on the current cut: mesh, pattern, factorization, solution.
+/// How the equilibrium is found.
+#[derive(Debug)]
+enum Solver {
+    /// The linear law: K (with the active springs) factorized, K without them kept for
+    /// the internal forces.
+    Linear {
+        statics: Box<Statics>,
+        k_base: Vec<f64>,
+        k: Vec<f64>,
+    },
+    /// A finite-strain law.
+    Newton(Box<Newton>),
+}
+
+/// Everything that depends on the current cut.
 #[derive(Debug)]
 pub struct Topology {
     pub cut_cells: usize,
-    pub mesh: Mesh3d,
+    pub solid: Solid,
+    /// Node pairs facing each other across the cut (front flank, back flank), mid-edge
+    /// nodes included.
     pub flank_pairs: Vec<(usize, usize)>,
     pub asm: Assembler,
-    pub statics: Statics,
-    /// Stiffness of the tetrahedra alone, and with the active contact springs (factorized).
-    pub k_base: Vec<f64>,
-    pub k: Vec<f64>,
-    pub material: Elastic,
+    solver: Solver,
     /// Flank contact, if the scene has a cut and contact is on.
     pub contact: Option<FlankContact>,
     /// The y size of the cell in front of the cut (sets penalty and search tolerance).
     layer: f64,
-    /// Top-surface boundary faces (undeformed z = size_z).
-    pub top_faces: Vec<[usize; 3]>,
+    /// The top surface (undeformed z = size_z).
+    pub top: TopSurface,
     /// Nodes of the pulled face.
     pub pulled: Vec<usize>,
+    /// The last equilibrium: displacements, external and internal forces (all dofs).
     pub u: Vec<f64>,
     pub f: Vec<f64>,
+    pub internal: Vec<f64>,
+    /// The prescribed displacements of the pulled face and the press force of `u`.
+    load: (f64, f64),
+    /// Scratch: `u` at the start of a step (restored on failure), the prescribed values
+    /// (all dofs), and the linear law's loads with the springs' share.
+    saved: Vec<f64>,
+    prescribed: Vec<f64>,
+    loads: Vec<f64>,
     /// Numeric factorizations since this topology was built.
     pub factorizations: u64,
 }
 
-impl Topology {
-    /// Cuts the base mesh by `cells` x-cells, checks that every body is supported, builds the
-    /// pattern and factorizes.
-    pub fn build(g: &Geometry, cells: usize, material: Elastic) -> Result<Self, SceneError> {
-        let CutMesh { mesh, flank_pairs } = g.cut(cells)?;
-        let sets = mesh.node_sets();
-        let clamped = sets.get("y0")?;
-        check_supported(&mesh, clamped)?;
-        let pulled = sets.get("y1")?.to_vec();
-        let mut fixed: Vec<usize> = pulled.iter().map(|n| 3 * n + 1).collect();
-        let all = |n: &usize| [3 * n, 3 * n + 1, 3 * n + 2];
-        match g.options.support {
-            Support::Clamped => fixed.extend(clamped.iter().flat_map(all)),
-            Support::Gripped => {
-                fixed.extend(clamped.iter().flat_map(all));
-                fixed.extend(pulled.iter().flat_map(|n| [3 * n, 3 * n + 2]));
-            }
-            Support::Sliding => {
-                fixed.extend(clamped.iter().map(|n| 3 * n + 1));
-                let origin = find_node(&mesh, [0.0, 0.0, 0.0])?;
-                let corner = find_node(&mesh, [g.size[0], 0.0, 0.0])?;
-                fixed.extend([3 * origin, 3 * origin + 2, 3 * corner + 2]);
+/// The solid and the contact springs as the Newton solver's equations.
+struct Equilibrium<'a> {
+    solid: &'a Solid,
+    asm: &'a Assembler,
+    contact: Option<&'a FlankContact>,
+    penalty: f64,
+}
+
+impl Equations for Equilibrium<'_> {
+    fn internal(
+        &mut self,
+        u: &[f64],
+        f: &mut [f64],
+        mut k: Option<&mut [f64]>,
+    ) -> Result<(), ModelError> {
+        f.fill(0.0);
+        if let Some(k) = k.as_deref_mut() {
+            k.fill(0.0);
+        }
+        self.solid.add_internal(self.asm, u, f, k.as_deref_mut())?;
+        if let Some(c) = self.contact {
+            c.add_forces(self.penalty, u, f);
+            if let Some(k) = k {
+                c.add_stiffness(self.asm, self.penalty, k);
             }
         }
-        let top = g.size[2];
-        let tol = 1e-9 * mesh.extent();
-        let top_faces = mesh
-            .boundary()
-            .iter()
-            .filter(|f| {
-                f.nodes
-                    .iter()
-                    .all(|&n| (mesh.nodes()[n][2] - top).abs() <= tol)
+        Ok(())
+    }
+}
+
+/// The solid's node sets: the mesh's, with mid-edge nodes for quadratic tetrahedra.
+struct Sets<'a> {
+    mesh: &'a Mesh3d,
+    quadratic: Option<&'a QuadraticMesh>,
+}
+
+impl Sets<'_> {
+    fn get(&self, name: &str) -> Result<Vec<usize>, SceneError> {
+        let corners = self.mesh.node_sets().get(name)?;
+        Ok(match self.quadratic {
+            Some(q) => q.extend(corners),
+            None => corners.to_vec(),
+        })
+    }
+}
+
+/// The constrained dofs of the supports (see [`Support`]).
+fn supports(
+    g: &Geometry,
+    sets: &Sets,
+    solid: &Solid,
+) -> Result<(Vec<usize>, Vec<usize>), SceneError> {
+    let clamped = sets.get("y0")?;
+    let pulled = sets.get("y1")?;
+    let mut fixed: Vec<usize> = pulled.iter().map(|n| 3 * n + 1).collect();
+    let all = |n: &usize| [3 * n, 3 * n + 1, 3 * n + 2];
+    match g.options.support {
+        Support::Clamped => fixed.extend(clamped.iter().flat_map(all)),
+        Support::Gripped => {
+            fixed.extend(clamped.iter().flat_map(all));
+            fixed.extend(pulled.iter().flat_map(|n| [3 * n, 3 * n + 2]));
+        }
+        Support::Sliding => {
+            fixed.extend(clamped.iter().map(|n| 3 * n + 1));
+            let origin = find_node(solid.nodes(), [0.0, 0.0, 0.0])?;
+            let corner = find_node(solid.nodes(), [g.size[0], 0.0, 0.0])?;
+            fixed.extend([3 * origin, 3 * origin + 2, 3 * corner + 2]);
+        }
+    }
+    Ok((fixed, pulled))
+}
+
+/// The flank facets for contact: boundary faces of the cut mesh with every corner on a
+/// flank, split into their four sub-triangles for quadratic tetrahedra.
+fn flank_facets(
+    mesh: &Mesh3d,
+    corner_pairs: &[(usize, usize)],
+    quadratic: Option<&QuadraticMesh>,
+) -> Vec<[usize; 3]> {
+    let mut on_flank = vec![false; mesh.nodes().len()];
+    for &(f, b) in corner_pairs {
+        on_flank[f] = true;
+        on_flank[b] = true;
+    }
+    let faces = mesh
+        .boundary()
+        .iter()
+        .map(|f| f.nodes)
+        .filter(|f| f.iter().all(|&n| on_flank[n]));
+    match quadratic {
+        None => faces.collect(),
+        Some(q) => faces
+            .flat_map(|f| {
+                let [a, b, c, ab, bc, ca] = q.face(f);
+                [[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]
             })
-            .map(|f| f.nodes)
-            .collect();
+            .collect(),
+    }
+}
+
+impl Topology {
+    /// Cuts the base mesh by `cells` x-cells, checks that every body is supported, builds
+    /// the solid, the pattern and the solver, and factorizes the linear law's stiffness.
+    pub fn build(
+        g: &Geometry,
+        cells: usize,
+        material: Material,
+        kind: Tetrahedron,
+        settings: Settings,
+    ) -> Result<Self, SceneError> {
+        let CutMesh { mesh, flank_pairs } = g.cut(cells)?;
+        check_supported(&mesh, mesh.node_sets().get("y0")?)?;
+        let quadratic = (kind == Tetrahedron::Tet10).then(|| QuadraticMesh::new(&mesh));
+        let solid = match &quadratic {
+            Some(q) => Solid::quadratic(q, material),
+            None => Solid::linear(&mesh, material),
+        };
+        let sets = Sets {
+            mesh: &mesh,
+            quadratic: quadratic.as_ref(),
+        };
+        let (fixed, pulled) = supports(g, &sets, &solid)?;
+        let facets = flank_facets(&mesh, &flank_pairs, quadratic.as_ref());
+        let facing = match (&quadratic, g.options.strategy) {
+            (Some(q), Strategy::Duplicate) => {
+                q.facing_pairs(&flank_pairs, &shared_on_cut(&mesh, g.y_cut, &flank_pairs))
+            }
+            (Some(q), Strategy::Delete) => q.facing_pairs(&flank_pairs, &[]),
+            (None, _) => flank_pairs.clone(),
+        };
         let contact = if g.options.contact {
-            FlankContact::new(&mesh, &flank_pairs, mesh.tets().len(), g.layer)
+            FlankContact::new(solid.nodes(), facets, &facing, solid.len(), g.layer)
         } else {
             None
         };
-        let asm = match &contact {
-            None => solid::assembler(&mesh),
-            Some(c) => {
-                let mut elements: Vec<&[usize]> =
-                    mesh.tets().iter().map(|t| t.as_slice()).collect();
-                elements.extend(c.elements.iter().map(|e| e.as_slice()));
-                Assembler::new(mesh.nodes().len(), 3, &elements)
+        let mut elements = solid.connectivity();
+        if let Some(c) = &contact {
+            elements.extend(c.elements.iter().map(|e| e.as_slice()));
+        }
+        let asm = Assembler::new(solid.nodes().len(), 3, &elements);
+        let top = TopSurface::new(&mesh, g, quadratic.as_ref());
+        let n_dofs = solid.n_dofs();
+        let solver = if material.law.finite() {
+            Solver::Newton(Box::new(Newton::new(
+                &asm,
+                &fixed,
+                Factorization::Supernodal,
+                settings,
+            )?))
+        } else {
+            Solver::Linear {
+                statics: Box::new(Statics::new(&asm, &fixed, Factorization::Supernodal)?),
+                k_base: asm.zeros(),
+                k: asm.zeros(),
             }
         };
-        let statics = Statics::new(&asm, &fixed, Factorization::Supernodal)?;
-        let n_dofs = mesh.n_dofs();
         let mut t = Self {
             cut_cells: cells,
-            k_base: asm.zeros(),
-            k: asm.zeros(),
+            solid,
+            flank_pairs: facing,
             asm,
-            statics,
-            material,
+            solver,
             contact,
             layer: g.layer,
-            top_faces,
+            top,
             pulled,
             u: vec![0.0; n_dofs],
             f: vec![0.0; n_dofs],
-            mesh,
-            flank_pairs,
+            internal: vec![0.0; n_dofs],
+            load: (0.0, 0.0),
+            saved: vec![0.0; n_dofs],
+            prescribed: vec![0.0; n_dofs],
+            loads: vec![0.0; n_dofs],
             factorizations: 0,
         };
-        t.assemble()?;
+        t.assemble_linear()?;
         Ok(t)
     }
 
-    fn assemble(&mut self) -> Result<(), SceneError> {
-        let continuum = Continuum {
-            elastic: self.material,
-            density: 0.0,
+    /// The linear law's stiffness K (the tangent at u = 0) and its factorization.
+    fn assemble_linear(&mut self) -> Result<(), SceneError> {
+        let Solver::Linear { k_base, .. } = &mut self.solver else {
+            return Ok(());
         };
-        solid::stiffness(&self.mesh, &self.asm, &continuum, &mut self.k_base);
+        let zero = vec![0.0; self.solid.n_dofs()];
+        let mut f = zero.clone();
+        k_base.fill(0.0);
+        self.solid
+            .add_internal(&self.asm, &zero, &mut f, Some(k_base))?;
         self.factorize()
     }
 
-    /// Factorizes the tetrahedra plus the active contact springs.
+    /// Factorizes the linear law's K plus the active contact springs.
     fn factorize(&mut self) -> Result<(), SceneError> {
-        self.k.copy_from_slice(&self.k_base);
+        let penalty = self.penalty();
+        let Solver::Linear { statics, k_base, k } = &mut self.solver else {
+            return Ok(());
+        };
+        k.copy_from_slice(k_base);
         if let Some(c) = &self.contact {
-            c.add_stiffness(&self.asm, self.penalty(), &mut self.k);
+            c.add_stiffness(&self.asm, penalty, k);
         }
-        self.statics.factorize(&self.k)?;
+        statics.factorize(k)?;
         self.factorizations += 1;
         Ok(())
     }
 
     /// Penalty stiffness k_p = PENALTY_FACTOR · E · h (N/mm).
     fn penalty(&self) -> f64 {
-        PENALTY_FACTOR * self.material.young() * self.layer
+        PENALTY_FACTOR * self.solid.material.elastic.young() * self.layer
     }
 
-    /// Reassembles and refactorizes if the material changed.
-    pub fn set_material(&mut self, material: Elastic) -> Result<(), SceneError> {
-        if material != self.material {
-            self.material = material;
-            self.assemble()?;
+    /// The material law and its parameters.
+    pub fn material(&self) -> Material {
+        self.solid.material
+    }
+
+    /// Takes new material parameters (the law stays): the linear law reassembles and
+    /// refactorizes; a finite-strain law solves the next step with them. With displacement
+    /// loading the equilibrium does not depend on E, but on ν it does.
+    pub fn set_material(&mut self, material: Material) -> Result<(), SceneError> {
+        if material != self.solid.material {
+            self.solid.material = material;
+            self.assemble_linear()?;
+        }
+        Ok(())
+    }
+
+    /// Changes `max_increment` for the next finite-strain solves.
+    pub fn set_max_increment(&mut self, max_increment: f64) -> Result<(), SceneError> {
+        if let Solver::Newton(n) = &mut self.solver {
+            let settings = Settings {
+                max_increment,
+                ..n.settings()
+            };
+            n.set_settings(settings)?;
         }
         Ok(())
     }
 
     /// Solves for the pull (mm) and the press force (N) at the scalpel position. With flank
-    /// contact: solve, search the flanks, and while the set of penetrating nodes changes,
-    /// refactorize with their springs and solve again (at most `CONTACT_ITERATIONS` times).
+    /// contact: solve, search the flanks, and while the set of held nodes changes, solve
+    /// again with the new springs (at most `CONTACT_ITERATIONS` times; a set that comes
+    /// back is a cycle and an error). On error the last equilibrium stays.
     pub fn solve(
         &mut self,
         g: &Geometry,
@@ -311,28 +321,75 @@ impl Topology {
         press: f64,
         scalpel_x: f64,
     ) -> Result<(), SceneError> {
+        self.saved.copy_from_slice(&self.u);
+        let (load, active) = (self.load, self.contact.as_ref().map(|c| c.active.clone()));
+        let result = self.settle(g, pull, press, scalpel_x);
+        if result.is_err() {
+            self.u.copy_from_slice(&self.saved);
+            if let (Some(c), Some(active)) = (&mut self.contact, active) {
+                c.active = active;
+            }
+            self.restart(g, load, scalpel_x)?;
+        }
+        result
+    }
+
+    /// After a failed solve: the loads, the springs and the solver's state back to `u`
+    /// under `load` (pull, press).
+    fn restart(
+        &mut self,
+        g: &Geometry,
+        load: (f64, f64),
+        scalpel_x: f64,
+    ) -> Result<(), SceneError> {
+        self.load = load;
+        self.set_loads(g, load.0, load.1, scalpel_x);
+        match &mut self.solver {
+            Solver::Newton(n) => n.restart(&self.prescribed, &self.f),
+            Solver::Linear { .. } => self.factorize()?,
+        }
+        Ok(())
+    }
+
+    /// The external forces `f` of the press and the prescribed values of the pull.
+    fn set_loads(&mut self, g: &Geometry, pull: f64, press: f64, scalpel_x: f64) {
+        self.f.fill(0.0);
+        if press > 0.0 {
+            self.top
+                .press_load(self.solid.nodes(), g, press, scalpel_x, &mut self.f);
+        }
+        for &n in &self.pulled {
+            self.prescribed[3 * n + 1] = pull;
+        }
+    }
+
+    fn settle(
+        &mut self,
+        g: &Geometry,
+        pull: f64,
+        press: f64,
+        scalpel_x: f64,
+    ) -> Result<(), SceneError> {
+        self.set_loads(g, pull, press, scalpel_x);
+        let mut seen: Vec<Vec<usize>> = Vec::new();
         for _ in 0..CONTACT_ITERATIONS {
-            self.u.fill(0.0);
-            for &n in &self.pulled {
-                self.u[3 * n + 1] = pull;
-            }
-            self.f.fill(0.0);
-            if press > 0.0 {
-                self.press_load(g, press, scalpel_x);
-            }
-            let penalty = self.penalty();
-            if let Some(c) = &self.contact {
-                c.add_loads(penalty, &mut self.f);
-            }
-            self.statics
-                .solve(self.asm.matrix(&self.k), &self.f, &mut self.u);
+            self.equilibrium()?;
+            self.load = (pull, press);
             let Some(c) = &mut self.contact else {
                 return Ok(());
             };
-            let springs = c.detect(&self.mesh, &self.u);
+            let springs = c.detect(self.solid.nodes(), &self.u);
             if c.same_as_active(&springs) {
                 return Ok(());
             }
+            let held: Vec<usize> = springs.iter().map(|s| s.node).collect();
+            if seen.contains(&held) {
+                return Err(SceneError::NotConverged {
+                    what: "the flank contact's active set (it cycles)",
+                    iterations: seen.len(),
+                });
+            }
+            seen.push(held);
             c.active = springs;
             self.factorize()?;
         }
@@ -342,44 +399,49 @@ impl Topology {
         })
     }
 
-    /// The press force as a uniform pressure over the top faces whose centroid lies within
-    /// `press_radius` of the tip (scalpel_x, y_cut), or over the nearest face if none does;
-    /// consistent nodal loads, direction −z, total exactly `force`.
-    fn press_load(&mut self, g: &Geometry, force: f64, scalpel_x: f64) {
-        let p = self.mesh.nodes();
-        let tip = [scalpel_x.min(g.size[0]), g.y_cut];
-        let distance = |f: &[usize; 3]| {
-            let c = |d: usize| f.iter().map(|&n| p[n][d]).sum::<f64>() / 3.0;
-            (c(0) - tip[0]).hypot(c(1) - tip[1])
-        };
-        let mut patch: Vec<[usize; 3]> = self
-            .top_faces
-            .iter()
-            .filter(|f| distance(f) <= g.press_radius)
-            .copied()
-            .collect();
-        if patch.is_empty() {
-            let nearest = self
-                .top_faces
-                .iter()
-                .min_by(|a, b| distance(a).total_cmp(&distance(b)));
-            patch.extend(nearest.copied());
+    /// The equilibrium for the prescribed values and `f` with the current springs.
+    fn equilibrium(&mut self) -> Result<(), SceneError> {
+        let penalty = self.penalty();
+        match &mut self.solver {
+            Solver::Linear { statics, k, k_base } => {
+                self.loads.copy_from_slice(&self.f);
+                if let Some(c) = &self.contact {
+                    c.add_loads(penalty, &mut self.loads);
+                }
+                self.u.copy_from_slice(&self.prescribed);
+                statics.solve(self.asm.matrix(k), &self.loads, &mut self.u);
+                self.internal.fill(0.0);
+                mul_add(self.asm.matrix(k_base), &self.u, 1.0, &mut self.internal);
+            }
+            Solver::Newton(n) => {
+                let mut eq = Equilibrium {
+                    solid: &self.solid,
+                    asm: &self.asm,
+                    contact: self.contact.as_ref(),
+                    penalty,
+                };
+                let report = n.solve(&mut eq, &mut self.u, &self.prescribed, &self.f)?;
+                self.factorizations += report.factorizations() as u64;
+                self.internal.copy_from_slice(n.internal_forces());
+            }
         }
-        let area = |f: &[usize; 3]| {
-            crate::element::tet4::face_area_normal(&p[f[0]], &p[f[1]], &p[f[2]]).norm()
-        };
-        let total: f64 = patch.iter().map(area).sum();
-        for f in &patch {
-            loads::face_traction(p, *f, [0.0, 0.0, -force / total], &mut self.f);
-        }
+        Ok(())
     }
 }
 
-fn find_node(mesh: &Mesh3d, at: [f64; 3]) -> Result<usize, SceneError> {
-    let tol = 1e-9 * mesh.extent();
-    mesh.nodes()
+/// The nodes on the cut plane that the cut left shared (crack front and uncut part).
+fn shared_on_cut(mesh: &Mesh3d, y_cut: f64, flank_pairs: &[(usize, usize)]) -> Vec<usize> {
+    let on_flank: std::collections::HashSet<usize> =
+        flank_pairs.iter().flat_map(|&(a, b)| [a, b]).collect();
+    (0..mesh.nodes().len())
+        .filter(|n| mesh.nodes()[*n][1] == y_cut && !on_flank.contains(n))
+        .collect()
+}
+
+fn find_node(nodes: &[[f64; 3]], at: [f64; 3]) -> Result<usize, SceneError> {
+    nodes
         .iter()
-        .position(|p| (0..3).all(|d| (p[d] - at[d]).abs() <= tol))
+        .position(|p| (0..3).all(|d| (p[d] - at[d]).abs() <= 1e-9 * (1.0 + at[d].abs())))
         .ok_or_else(|| SceneError::Config(format!("no node at {at:?}")))
 }
 
@@ -398,4 +460,23 @@ fn check_supported(mesh: &Mesh3d, clamped: &[usize]) -> Result<(), SceneError> {
         });
     }
     Ok(())
+}
+
+/// Consistent loads of a uniform traction `t` (N/mm²) on a flat triangle: the linear one
+/// shares its force equally among the corners, the quadratic one gives it all to the
+/// mid-edge nodes, a third each (∫N dA of the 6-node triangle: 0 at corners, A/3 at mids).
+pub fn face_traction(nodes: &[[f64; 3]], face: &[usize], t: [f64; 3], f: &mut [f64]) {
+    match face {
+        [a, b, c] => loads::face_traction(nodes, [*a, *b, *c], t, f),
+        [a, b, c, ab, bc, ca] => {
+            let area =
+                crate::element::tet4::face_area_normal(&nodes[*a], &nodes[*b], &nodes[*c]).norm();
+            for &m in [ab, bc, ca] {
+                for d in 0..3 {
+                    f[3 * m + d] += t[d] * area / 3.0;
+                }
+            }
+        }
+        _ => unreachable!("triangles have 3 or 6 nodes"),
+    }
 }
