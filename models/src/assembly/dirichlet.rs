@@ -21,6 +21,10 @@ pub struct Dirichlet {
     free: Vec<usize>,
     symbolic: SymbolicSparseColMat<usize>,
     gather: Vec<usize>,
+    /// K_fc: for each constrained dof (in `constrained` order) its entries in free rows,
+    /// as (index into the full values, equation), from `coupling[ptr[i]..ptr[i + 1]]`.
+    coupling: Vec<(usize, usize)>,
+    coupling_ptr: Vec<usize>,
 }
 
 impl Dirichlet {
@@ -64,12 +68,24 @@ impl Dirichlet {
         let mut constrained = constrained.to_vec();
         constrained.sort_unstable();
         constrained.dedup();
+        let (mut coupling, mut coupling_ptr) = (Vec::new(), vec![0]);
+        for &c in &constrained {
+            for k in full.col_ptr()[c]..full.col_ptr()[c + 1] {
+                let eq = equation[full.row_idx()[k]];
+                if eq != CONSTRAINED {
+                    coupling.push((k, eq));
+                }
+            }
+            coupling_ptr.push(coupling.len());
+        }
         Ok(Self {
             constrained,
             equation,
             free,
             symbolic,
             gather,
+            coupling,
+            coupling_ptr,
         })
     }
 
@@ -130,29 +146,17 @@ impl Dirichlet {
         }
     }
 
-    /// out ← out − K_fc u_c, reading the prescribed values u_c from the constrained entries
-    /// of the full-length vector `u` (seed 002 eq. 3.3). Visits only constrained columns.
-    pub fn subtract_prescribed(
-        &self,
-        k_full: SparseColMatRef<'_, usize, f64>,
-        u: &[f64],
-        out: &mut [f64],
-    ) {
-        let (col_ptr, row_idx, val) = (
-            k_full.symbolic().col_ptr(),
-            k_full.symbolic().row_idx(),
-            k_full.val(),
-        );
-        for &c in &self.constrained {
+    /// out ← out − K_fc u_c, for full stiffness values `k_full` (on the pattern this split
+    /// was made for), reading the prescribed values u_c from the constrained entries of the
+    /// full-length vector `u` (seed 002 eq. 3.3). Visits only the coupling entries.
+    pub fn subtract_prescribed(&self, k_full: &[f64], u: &[f64], out: &mut [f64]) {
+        for (i, &c) in self.constrained.iter().enumerate() {
             let uc = u[c];
             if uc == 0.0 {
                 continue;
             }
-            for k in col_ptr[c]..col_ptr[c + 1] {
-                let eq = self.equation[row_idx[k]];
-                if eq != CONSTRAINED {
-                    out[eq] -= val[k] * uc;
-                }
+            for &(k, eq) in &self.coupling[self.coupling_ptr[i]..self.coupling_ptr[i + 1]] {
+                out[eq] -= k_full[k] * uc;
             }
         }
     }
@@ -177,7 +181,7 @@ mod tests {
         bc.combine(&[(1.0, &k)], &mut kr);
         assert_eq!(kr, vec![5.0]);
         let mut rhs = vec![0.0];
-        bc.subtract_prescribed(asm.matrix(&k), &[0.5, 99.0, 0.0], &mut rhs);
+        bc.subtract_prescribed(&k, &[0.5, 99.0, 0.0], &mut rhs);
         assert_eq!(rhs[0] / kr[0], 0.2);
         assert!(Dirichlet::new(&asm, &[3])
             .unwrap_err()

@@ -29,6 +29,10 @@ use crate::error::ModelError;
 /// diagonal; a physical stiffness contrast of 1e6 gives ratios near 1e-6.
 pub const PIVOT_RATIO_TOL: f64 = 1e-10;
 
+/// Factors with more stored values than this are factorized on all of rayon's threads
+/// (the dense supernode updates parallelize; smaller factors would only pay the overhead).
+const PARALLEL_VALUES: usize = 1 << 20;
+
 /// How faer stores the Cholesky factor, and with it the ordering. Simplicial (AMD) is faster
 /// per solve for 2D meshes; supernodal (nested dissection) is much faster to factorize for
 /// 3D meshes (measured; see BENCHMARKS.md).
@@ -47,6 +51,8 @@ pub struct Cholesky {
     /// Equation of each pivot in the original numbering (new → old).
     perm_fwd: Vec<usize>,
     factorized: bool,
+    /// Parallelism of the numeric factorization (see [`PARALLEL_VALUES`]).
+    par: Par,
 }
 
 impl std::fmt::Debug for Cholesky {
@@ -88,9 +94,13 @@ impl Cholesky {
         };
         let symbolic = factorize_symbolic_cholesky(pattern, Side::Lower, ordering, params)
             .map_err(|e| ModelError::LinearAlgebra(format!("symbolic Cholesky: {e:?}")))?;
+        let par = if symbolic.len_val() > PARALLEL_VALUES {
+            Par::rayon(0)
+        } else {
+            Par::Seq
+        };
         let req = StackReq::any_of(&[
-            symbolic
-                .factorize_numeric_llt_scratch::<f64>(Par::Seq, Spec::<LltParams, f64>::default()),
+            symbolic.factorize_numeric_llt_scratch::<f64>(par, Spec::<LltParams, f64>::default()),
             symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
         ]);
         budget::claim(
@@ -107,6 +117,7 @@ impl Cholesky {
             mem: MemBuffer::new(req),
             perm_fwd,
             factorized: false,
+            par,
         })
     }
 
@@ -130,7 +141,7 @@ impl Cholesky {
             a,
             Side::Lower,
             LltRegularization::default(),
-            Par::Seq,
+            self.par,
             stack,
             Spec::default(),
         );

@@ -4,21 +4,28 @@
 //! A call of [`Newton::solve`] goes from the last equilibrium to a new load in increments:
 //! the prescribed displacements and the external forces move linearly from the old load to
 //! the new one, by at most `max_increment` (mm) of any prescribed displacement per increment.
-//! Each increment starts from a secant predictor (the previous increment's displacement
-//! change, scaled to this increment) with the prescribed values at their targets, then
-//! iterates Newton–Raphson: factorize the tangent K_ff (the symbolic analysis is made once,
-//! in [`Newton::new`]), solve K_ff Δu = −r_f, and step along Δu with a backtracking line
+//! Each increment starts from the linearized predictor, Δu_f = K_ff⁻¹ (Δf_f − K_fc Δu_c),
+//! with the kept factorization of the tangent (made at the converged state if there is
+//! none), then iterates: solve K_ff Δu = −r_f and step along Δu. The factorization is
+//! reused while the residual falls fast (modified Newton: each iteration must reduce ‖r_f‖
+//! at least by the factor `reuse_contraction`); otherwise the tangent is reassembled and
+//! refactorized at the current iterate (Newton–Raphson; with `reuse_contraction = 0` every
+//! iteration). After a fresh factorization the step is taken with a backtracking line
 //! search on ‖r_f‖ (α halved while ‖r_f(u + αΔu)‖ > (1 − 10⁻⁴ α) ‖r_f(u)‖, or while an
-//! element inverts). An increment has converged when ‖r_f‖ ≤ `residual_tolerance` · (the
-//! largest force norm of the solve: internal forces, reactions included, and external
-//! forces) and the last correction ‖αΔu‖_∞ ≤ `displacement_tolerance` · ‖u‖_∞; or when the
-//! line search finds no descent at a residual already within round-off (10⁻¹³ of that
-//! scale). An increment that does not converge in `max_iterations`, whose line search
-//! fails, or that inverts an element (or whose tangent is not positive definite), is cut
-//! back to half its size and retried from the last converged state; a converged one lets
-//! the next grow back, up to the first size. An increment smaller than the first one halved
-//! `max_cutbacks` times fails the solve with [`ModelError::NotConverged`], naming the
-//! fraction of the load change reached; `u` is left at the start of the call.
+//! element inverts); a step with a reused factorization that does not decrease ‖r_f‖ is
+//! undone and the tangent refactorized. The symbolic analysis is made once, in
+//! [`Newton::new`].
+//!
+//! An increment has converged when ‖r_f‖ ≤ `residual_tolerance` · (the largest force norm
+//! of the solve: internal forces, reactions included, and external forces) and the last
+//! correction ‖αΔu‖_∞ ≤ `displacement_tolerance` · ‖u‖_∞; or when the line search finds no
+//! descent at a residual already within round-off (10⁻¹³ of that scale). An increment that
+//! does not converge in `max_iterations`, whose line search fails, or that inverts an
+//! element (or whose tangent is not positive definite), is cut back to half its size and
+//! retried from the last converged state; a converged one lets the next grow back, up to
+//! the first size. An increment smaller than the first one halved `max_cutbacks` times
+//! fails the solve with [`ModelError::NotConverged`], naming the fraction of the load
+//! change reached; `u` is left at the start of the call.
 //!
 //! Nothing is allocated per iteration: the vectors and the factor's storage are made in
 //! [`Newton::new`]; an iteration assembles into them, refactorizes numerically and solves.
@@ -58,6 +65,9 @@ pub struct Settings {
     pub displacement_tolerance: f64,
     pub max_iterations: usize,
     pub max_cutbacks: usize,
+    /// The factorization is reused while every iteration reduces ‖r_f‖ at least by this
+    /// factor; 0 refactorizes at every iteration (Newton–Raphson).
+    pub reuse_contraction: f64,
 }
 
 impl Default for Settings {
@@ -68,6 +78,7 @@ impl Default for Settings {
             displacement_tolerance: 1e-10,
             max_iterations: 25,
             max_cutbacks: 8,
+            reuse_contraction: 0.1,
         }
     }
 }
@@ -75,21 +86,18 @@ impl Default for Settings {
 /// What a solve did.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Report {
-    /// Newton iterations (factorizations) of each converged increment.
+    /// Iterations (corrections Δu) of each converged increment.
     pub iterations: Vec<usize>,
+    /// Numeric factorizations, failed increments included.
+    pub factorizations: usize,
     /// Increments that were cut back.
     pub cutbacks: usize,
     /// ‖r_f‖ / scale at each iterate of the last increment (the convergence history).
     pub residuals: Vec<f64>,
+    /// Time spent assembling, factorizing and solving in this solve.
     pub assembly: Duration,
     pub factorization: Duration,
     pub solve: Duration,
-}
-
-impl Report {
-    pub fn factorizations(&self) -> usize {
-        self.iterations.iter().sum()
-    }
 }
 
 /// Why an increment failed.
@@ -106,6 +114,9 @@ pub struct Newton {
     bc: Dirichlet,
     chol: Cholesky,
     settings: Settings,
+    /// Whether `chol` holds a factorization of the present equations' tangent (made at
+    /// some state; `k` holds that tangent on the full pattern).
+    factorized: bool,
     /// Full tangent and its free–free part.
     k: Vec<f64>,
     reduced: Vec<f64>,
@@ -113,10 +124,10 @@ pub struct Newton {
     f: Vec<f64>,
     r: Vec<f64>,
     du: Vec<f64>,
-    /// Trial state, last converged state, previous converged state (for the predictor).
+    /// Trial state, last converged state, and the predictor's prescribed change (all dofs).
     trial: Vec<f64>,
     converged: Vec<f64>,
-    previous: Vec<f64>,
+    change: Vec<f64>,
     /// The load of the last equilibrium and of the current target (all dofs).
     prescribed: Vec<f64>,
     external: Vec<f64>,
@@ -145,12 +156,13 @@ impl Newton {
         factorization: Factorization,
         settings: Settings,
     ) -> Result<Self, ModelError> {
-        crate::error::positive("max_increment", settings.max_increment)?;
+        Self::check(&settings)?;
         let bc = Dirichlet::new(asm, constrained)?;
         let chol = Cholesky::analyze(bc.symbolic().as_ref(), factorization)?;
         let (n, free) = (asm.n_dofs(), bc.n_free());
         let full = || vec![0.0; n];
         Ok(Self {
+            factorized: false,
             k: asm.zeros(),
             reduced: vec![0.0; bc.nnz()],
             f: full(),
@@ -158,7 +170,7 @@ impl Newton {
             du: vec![0.0; free],
             trial: full(),
             converged: full(),
-            previous: full(),
+            change: full(),
             prescribed: full(),
             external: full(),
             target_prescribed: full(),
@@ -174,13 +186,25 @@ impl Newton {
         })
     }
 
+    fn check(settings: &Settings) -> Result<(), ModelError> {
+        crate::error::positive("max_increment", settings.max_increment)?;
+        if !(0.0..1.0).contains(&settings.reuse_contraction) {
+            return Err(ModelError::InvalidParameter {
+                name: "reuse_contraction".into(),
+                value: settings.reuse_contraction,
+                reason: "must lie in [0, 1)",
+            });
+        }
+        Ok(())
+    }
+
     pub fn settings(&self) -> Settings {
         self.settings
     }
 
     /// Changes the settings (e.g. `max_increment`) for later solves.
     pub fn set_settings(&mut self, settings: Settings) -> Result<(), ModelError> {
-        crate::error::positive("max_increment", settings.max_increment)?;
+        Self::check(&settings)?;
         self.settings = settings;
         Ok(())
     }
@@ -196,6 +220,12 @@ impl Newton {
         &self.f
     }
 
+    /// Declares the kept factorization stale: the equations changed (material, contact
+    /// springs), so the next increment starts from a new tangent.
+    pub fn invalidate(&mut self) {
+        self.factorized = false;
+    }
+
     /// Declares the caller's displacement an equilibrium under this load (after it restored
     /// an earlier state): the next solve starts its increments from here.
     pub fn restart(&mut self, prescribed: &[f64], external: &[f64]) {
@@ -203,6 +233,7 @@ impl Newton {
             self.prescribed[d] = prescribed[d];
         }
         self.external.copy_from_slice(external);
+        self.factorized = false;
     }
 
     /// Moves `u` from the last equilibrium to equilibrium under the prescribed values
@@ -221,7 +252,6 @@ impl Newton {
         self.target_external.copy_from_slice(external);
         self.scale = norm_of(external).max(norm_of(&self.external));
         self.converged.copy_from_slice(u);
-        self.previous.copy_from_slice(u);
         let change = self
             .bc
             .constrained()
@@ -230,25 +260,30 @@ impl Newton {
             .fold(0.0, f64::max);
         let base = 1.0 / (change / self.settings.max_increment).ceil().max(1.0);
         self.report.iterations.clear();
+        self.report.factorizations = 0;
         self.report.cutbacks = 0;
+        self.report.assembly = Duration::ZERO;
+        self.report.factorization = Duration::ZERO;
+        self.report.solve = Duration::ZERO;
         let smallest = base / f64::from(1u32 << self.settings.max_cutbacks.min(30));
-        let (mut s, mut ds, mut last_ds) = (0.0, base, 0.0);
+        let (mut s, mut ds) = (0.0, base);
         while s < 1.0 {
             let next = (s + ds).min(1.0);
-            match self.increment(eq, s, next, last_ds) {
+            match self.increment(eq, s, next) {
                 Ok(iterations) => {
                     self.report.iterations.push(iterations);
-                    self.previous.copy_from_slice(&self.converged);
                     self.converged.copy_from_slice(&self.trial);
-                    last_ds = next - s;
                     s = next;
                     ds = (2.0 * ds).min(base);
                 }
-                Err(_) if 0.5 * ds >= smallest => {
-                    self.report.cutbacks += 1;
-                    ds *= 0.5;
-                }
                 Err(why) => {
+                    // The factorization may come from a diverged iterate: start afresh.
+                    self.factorized = false;
+                    if 0.5 * ds >= smallest {
+                        self.report.cutbacks += 1;
+                        ds *= 0.5;
+                        continue;
+                    }
                     // The load change reached before the failure; `u` stays as it came.
                     let reason = match why {
                         Failure::Iterations => format!(
@@ -281,40 +316,44 @@ impl Newton {
         }
     }
 
+    /// The external force at dof `d` for load fraction `s`.
+    fn external_at(&self, d: usize, s: f64) -> f64 {
+        self.external[d] + s * (self.target_external[d] - self.external[d])
+    }
+
     /// One increment from the converged state at fraction `from` to `to`; on success the
     /// equilibrium is in `trial`.
-    fn increment(
-        &mut self,
-        eq: &mut impl Equations,
-        from: f64,
-        to: f64,
-        last: f64,
-    ) -> Result<usize, Failure> {
-        // Secant predictor, then the prescribed values at their targets.
-        let scale = if last > 0.0 { (to - from) / last } else { 0.0 };
-        for ((t, c), p) in self
-            .trial
-            .iter_mut()
-            .zip(&self.converged)
-            .zip(&self.previous)
-        {
-            *t = c + scale * (c - p);
-        }
-        let mut trial = std::mem::take(&mut self.trial);
-        self.set_prescribed(to, &mut trial);
-        self.trial = trial;
+    fn increment(&mut self, eq: &mut impl Equations, from: f64, to: f64) -> Result<usize, Failure> {
         self.report.residuals.clear();
+        self.trial.copy_from_slice(&self.converged);
+        self.predict(eq, from, to)?;
         let mut norm = self.residual(eq, to)?;
         if self.trial == self.converged && norm <= self.settings.residual_tolerance * self.scale {
             return Ok(0);
         }
+        // The contraction of the last iteration; infinite forces a refactorization.
+        let mut contraction = 0.0;
         for iteration in 1..=self.settings.max_iterations {
-            self.tangent(eq)?;
+            let fresh = !self.factorized || contraction > self.settings.reuse_contraction;
+            if fresh {
+                self.tangent(eq)?;
+            }
             self.direction()?;
-            let step = match self.line_search(eq, to, norm) {
+            let outcome = if fresh {
+                self.line_search(eq, to, norm)
+            } else {
+                self.reused_step(eq, to, norm)
+            };
+            let step = match outcome {
                 Ok((next, step)) => {
+                    contraction = next / norm.max(1e-300);
                     norm = next;
                     step
+                }
+                // A reused factorization that gave no descent: refactorize here.
+                Err(Failure::LineSearch) if !fresh => {
+                    contraction = f64::INFINITY;
+                    continue;
                 }
                 // No descent left at round-off: converged as far as arithmetic allows.
                 Err(Failure::LineSearch) if norm <= ROUND_OFF * self.scale => return Ok(iteration),
@@ -334,6 +373,41 @@ impl Newton {
         Err(Failure::Iterations)
     }
 
+    /// The linearized predictor: `trial` (the converged state on entry) moves by
+    /// Δu_f = K_ff⁻¹ (Δf_f − K_fc Δu_c) for the load change from `from` to `to`, with the
+    /// prescribed values at their targets. Factorizes the tangent at the converged state if
+    /// no factorization is kept. Without a load change `trial` stays.
+    fn predict(&mut self, eq: &mut impl Equations, from: f64, to: f64) -> Result<(), Failure> {
+        let unchanged = self.bc.constrained().iter().all(|&d| {
+            self.target_prescribed[d] == self.prescribed[d]
+        }) && self.target_external == self.external;
+        if unchanged {
+            return Ok(());
+        }
+        if !self.factorized {
+            self.tangent(eq)?;
+        }
+        let start = Instant::now();
+        self.change.fill(0.0);
+        for &d in self.bc.constrained() {
+            self.change[d] = (to - from) * (self.target_prescribed[d] - self.prescribed[d]);
+        }
+        let mut trial = std::mem::take(&mut self.trial);
+        self.set_prescribed(to, &mut trial);
+        self.trial = trial;
+        for (k, &d) in self.bc.free().iter().enumerate() {
+            self.du[k] = self.external_at(d, to) - self.external_at(d, from);
+        }
+        self.bc
+            .subtract_prescribed(&self.k, &self.change, &mut self.du);
+        self.chol.solve_in_place(&mut self.du);
+        for (k, &d) in self.bc.free().iter().enumerate() {
+            self.trial[d] += self.du[k];
+        }
+        self.report.solve += start.elapsed();
+        Ok(())
+    }
+
     /// r_f = f_int − f_ext on the free dofs at `trial` for load fraction `s`; updates the
     /// force scale, records ‖r_f‖ relative to it and returns ‖r_f‖.
     fn residual(&mut self, eq: &mut impl Equations, s: f64) -> Result<f64, Failure> {
@@ -343,8 +417,7 @@ impl Newton {
         result.map_err(Failure::Model)?;
         let mut sq = 0.0;
         for (k, &d) in self.bc.free().iter().enumerate() {
-            let ext = self.external[d] + s * (self.target_external[d] - self.external[d]);
-            self.r[k] = self.f[d] - ext;
+            self.r[k] = self.f[d] - self.external_at(d, s);
             sq += self.r[k] * self.r[k];
         }
         let norm = sq.sqrt();
@@ -355,6 +428,7 @@ impl Newton {
 
     /// Assembles and factorizes the tangent at `trial`.
     fn tangent(&mut self, eq: &mut impl Equations) -> Result<(), Failure> {
+        self.factorized = false;
         let start = Instant::now();
         let result = eq.internal(&self.trial, &mut self.f, Some(&mut self.k));
         self.report.assembly += start.elapsed();
@@ -363,6 +437,8 @@ impl Newton {
         self.bc.combine(&[(1.0, &self.k)], &mut self.reduced);
         let factorized = self.chol.factorize(self.bc.matrix(&self.reduced));
         self.report.factorization += start.elapsed();
+        self.report.factorizations += 1;
+        self.factorized = factorized.is_ok();
         factorized.map_err(Failure::Model)
     }
 
@@ -381,6 +457,40 @@ impl Newton {
         }
     }
 
+    /// Steps `trial` by Δu from a reused factorization; if ‖r_f‖ does not decrease, undoes
+    /// the step (recomputing the residual there) and reports no descent. Returns the new
+    /// ‖r_f‖ and ‖Δu‖_∞.
+    fn reused_step(
+        &mut self,
+        eq: &mut impl Equations,
+        s: f64,
+        norm: f64,
+    ) -> Result<(f64, f64), Failure> {
+        self.move_trial(1.0);
+        match self.residual(eq, s) {
+            Ok(next) if next < norm => {
+                let size = self.du.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+                return Ok((next, size));
+            }
+            Ok(_) => {
+                self.report.residuals.pop();
+            }
+            Err(Failure::Model(_)) => {}
+            Err(other) => return Err(other),
+        }
+        self.move_trial(-1.0);
+        self.residual(eq, s)?;
+        self.report.residuals.pop();
+        Err(Failure::LineSearch)
+    }
+
+    /// trial_f += α Δu.
+    fn move_trial(&mut self, alpha: f64) {
+        for (k, &d) in self.bc.free().iter().enumerate() {
+            self.trial[d] += alpha * self.du[k];
+        }
+    }
+
     /// Steps `trial` along Δu with a backtracking line search; returns the new ‖r_f‖ and
     /// the size ‖αΔu‖_∞ of the step taken.
     fn line_search(
@@ -393,9 +503,7 @@ impl Newton {
         let mut taken = 0.0;
         for _ in 0..8 {
             // Move from the step taken so far to α Δu.
-            for (k, &d) in self.bc.free().iter().enumerate() {
-                self.trial[d] += (alpha - taken) * self.du[k];
-            }
+            self.move_trial(alpha - taken);
             taken = alpha;
             let size = alpha * self.du.iter().fold(0.0f64, |a, x| a.max(x.abs()));
             match self.residual(eq, s) {

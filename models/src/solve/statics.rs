@@ -50,7 +50,7 @@ impl Statics {
     /// that was factorized; `f` the full load vector (entries at constrained dofs unused).
     pub fn solve(&mut self, k: SparseColMatRef<'_, usize, f64>, f: &[f64], u: &mut [f64]) {
         self.bc.reduce(f, &mut self.rhs);
-        self.bc.subtract_prescribed(k, u, &mut self.rhs);
+        self.bc.subtract_prescribed(k.val(), u, &mut self.rhs);
         self.chol.solve_in_place(&mut self.rhs);
         self.bc.expand(&self.rhs, u);
     }

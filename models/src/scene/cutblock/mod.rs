@@ -32,6 +32,7 @@ use crate::assembly::solid::{Solid, Tetrahedron};
 use crate::budget;
 use crate::element::{Elastic, Law, Material};
 use crate::solve::newton::Settings;
+use std::time::Duration;
 
 /// Laser-profile stations: y = 0, 0.5, …, 90 mm in lab coordinates (the default block
 /// pulled by up to 10 mm).
@@ -54,12 +55,34 @@ pub struct CutBlock {
     warned_strain: bool,
 }
 
-/// What the scene has done so far: how often it rebuilt the topology, refactorized and solved.
+/// What the scene has done so far: how often it rebuilt the topology, refactorized and
+/// solved, and for the finite-strain laws the Newton increments and iterations and where
+/// their time went.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Work {
     pub topology_builds: u64,
     pub factorizations: u64,
     pub solves: u64,
+    pub increments: u64,
+    pub iterations: u64,
+    pub assembly: Duration,
+    pub factorization: Duration,
+    pub solve: Duration,
+}
+
+impl Work {
+    fn add(self, other: Work) -> Work {
+        Work {
+            topology_builds: self.topology_builds + other.topology_builds,
+            factorizations: self.factorizations + other.factorizations,
+            solves: self.solves + other.solves,
+            increments: self.increments + other.increments,
+            iterations: self.iterations + other.iterations,
+            assembly: self.assembly + other.assembly,
+            factorization: self.factorization + other.factorization,
+            solve: self.solve + other.solve,
+        }
+    }
 }
 
 impl Default for CutBlock {
@@ -82,13 +105,10 @@ impl CutBlock {
         }
     }
 
-    /// Counts of topology builds, numeric factorizations and solves so far.
+    /// What the scene has done so far (all topologies).
     pub fn work(&self) -> Work {
-        let current = self.topology.as_ref().map_or(0, |t| t.factorizations);
-        Work {
-            factorizations: self.work.factorizations + current,
-            ..self.work
-        }
+        let current = self.topology.as_ref().map(|t| t.work);
+        self.work.add(current.unwrap_or_default())
     }
 
     /// Sets a real variable by name (convenience for tests and the harness).
@@ -198,8 +218,8 @@ impl CutBlock {
                 let built = budget::within(limit, || {
                     Topology::build(geometry, cells, material, kind, settings)
                 })?;
-                let old = slot.replace(built).map_or(0, |t| t.factorizations);
-                self.work.factorizations += old;
+                let old = slot.replace(built).map(|t| t.work);
+                self.work = self.work.add(old.unwrap_or_default());
                 self.work.topology_builds += 1;
             }
         }

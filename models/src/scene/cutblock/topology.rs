@@ -10,6 +10,7 @@
 use super::contact::{FlankContact, PENALTY_FACTOR};
 use super::geometry::{Geometry, Strategy, Support};
 use super::profiles::TopSurface;
+use super::Work;
 use crate::assembly::solid::{Solid, Tetrahedron};
 use crate::assembly::{loads, mul_add, Assembler};
 use crate::element::Material;
@@ -66,8 +67,8 @@ pub struct Topology {
     saved: Vec<f64>,
     prescribed: Vec<f64>,
     loads: Vec<f64>,
-    /// Numeric factorizations since this topology was built.
-    pub factorizations: u64,
+    /// Factorizations, Newton increments and iterations since this topology was built.
+    pub work: Work,
 }
 
 /// The solid and the contact springs as the Newton solver's equations.
@@ -243,7 +244,7 @@ impl Topology {
             saved: vec![0.0; n_dofs],
             prescribed: vec![0.0; n_dofs],
             loads: vec![0.0; n_dofs],
-            factorizations: 0,
+            work: Work::default(),
         };
         t.assemble_linear()?;
         Ok(t)
@@ -251,8 +252,12 @@ impl Topology {
 
     /// The linear law's stiffness K (the tangent at u = 0) and its factorization.
     fn assemble_linear(&mut self) -> Result<(), SceneError> {
-        let Solver::Linear { k_base, .. } = &mut self.solver else {
-            return Ok(());
+        let k_base = match &mut self.solver {
+            Solver::Linear { k_base, .. } => k_base,
+            Solver::Newton(n) => {
+                n.invalidate();
+                return Ok(());
+            }
         };
         let zero = vec![0.0; self.solid.n_dofs()];
         let mut f = zero.clone();
@@ -262,18 +267,24 @@ impl Topology {
         self.factorize()
     }
 
-    /// Factorizes the linear law's K plus the active contact springs.
+    /// After a change of the equations (material, contact springs): factorizes the linear
+    /// law's K plus the active springs; a finite-strain law's next solve starts from a new
+    /// tangent.
     fn factorize(&mut self) -> Result<(), SceneError> {
         let penalty = self.penalty();
-        let Solver::Linear { statics, k_base, k } = &mut self.solver else {
-            return Ok(());
+        let (statics, k_base, k) = match &mut self.solver {
+            Solver::Linear { statics, k_base, k } => (statics, k_base, k),
+            Solver::Newton(n) => {
+                n.invalidate();
+                return Ok(());
+            }
         };
         k.copy_from_slice(k_base);
         if let Some(c) = &self.contact {
             c.add_stiffness(&self.asm, penalty, k);
         }
         statics.factorize(k)?;
-        self.factorizations += 1;
+        self.work.factorizations += 1;
         Ok(())
     }
 
@@ -421,7 +432,13 @@ impl Topology {
                     penalty,
                 };
                 let report = n.solve(&mut eq, &mut self.u, &self.prescribed, &self.f)?;
-                self.factorizations += report.factorizations() as u64;
+                let w = &mut self.work;
+                w.factorizations += report.factorizations as u64;
+                w.increments += report.iterations.len() as u64;
+                w.iterations += report.iterations.iter().sum::<usize>() as u64;
+                w.assembly += report.assembly;
+                w.factorization += report.factorization;
+                w.solve += report.solve;
                 self.internal.copy_from_slice(n.internal_forces());
             }
         }
