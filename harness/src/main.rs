@@ -8,7 +8,10 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
-use harness::report::{self, fields, identification, series, speed_error, sweep, verification};
+use harness::report::{
+    self, cut_speed_error, fields, identification, series, speed_error, sweep, verification,
+};
+use harness::studies::identify::Model;
 
 #[derive(Parser)]
 #[command(
@@ -43,19 +46,22 @@ enum Command {
         #[arg(long)]
         plan_only: bool,
     },
-    /// Fits E (and ν, from laser profiles) of the cut block to measurements
+    /// Fits E and ν of a cut-block model to a measurement set (forces, laser profiles)
     Identify {
-        /// Folder with force_displacement_<set>.csv and profile_<set>_x25/50/75.csv
-        /// [default: the shipped experiments/data/cutblock]
+        /// Folder with specimen_<set>.toml, force_displacement_<set>.csv and (optional)
+        /// profile_<set>_x25/50/75.csv [default: the shipped experiments/data/cutblock]
         #[arg(long)]
         data: Option<PathBuf>,
         /// Name of the measurement set in the folder
         #[arg(long, default_value = "A")]
         set: String,
-        /// A force–displacement CSV (displacement mm, force N) to fit instead of a set; needs --nu
-        #[arg(long, conflicts_with_all = ["data", "set"], requires = "nu")]
-        forces: Option<PathBuf>,
-        /// Fix Poisson's ratio instead of fitting it to the profiles
+        /// Material law of the model: linear, neo-hookean or stvk
+        #[arg(long, default_value = "neo-hookean")]
+        material: String,
+        /// Element of the model: tet4 or tet10
+        #[arg(long, default_value = "tet10")]
+        element: String,
+        /// Fix Poisson's ratio instead of fitting it (needed when the set has no profiles)
         #[arg(long)]
         nu: Option<f64>,
         #[arg(long, default_value = "report/identify")]
@@ -64,6 +70,11 @@ enum Command {
     /// Speed versus error of the abdomen and the stability table
     SpeedError {
         #[arg(long, default_value = "report/speed_error")]
+        out: PathBuf,
+    },
+    /// Speed versus error of the cut block's models (law × element × mesh), Pareto plot
+    CutSpeedError {
+        #[arg(long, default_value = "report/cut_speed_error")]
         out: PathBuf,
     },
     /// Verification of the FE core and both scenes against analytical and seed results
@@ -134,13 +145,27 @@ fn run(cli: Cli) -> Result<Option<PathBuf>> {
         Command::Identify {
             data,
             set,
-            forces,
+            material,
+            element,
             nu,
             out,
-        } => identification::command(data, &set, forces, nu, &out)?,
+        } => identification::command(
+            identification::Job {
+                dir: data.unwrap_or_else(identification::shipped_data),
+                set,
+                model: Model::new(&material, &element),
+                nu,
+            },
+            &out,
+        )?,
         Command::SpeedError { out } => {
             report::write(&out, "Speed versus error", speed_error::section)?
         }
+        Command::CutSpeedError { out } => report::write(
+            &out,
+            "Speed versus error, cut block",
+            cut_speed_error::section,
+        )?,
         Command::Verify { out } => report::write(&out, "Verification", verification::section)?,
         Command::Fields { out } => report::write(&out, "Fields", fields::section)?,
         Command::Simulate {

@@ -40,20 +40,42 @@ fn fields_writes_the_stress_map_and_both_vtu_files() {
     );
 }
 
+/// A small specimen (2 × 4 × 2 cells) for the `identify` command test.
+const SPECIMEN: &str = r#"
+size = [100.0, 80.0, 17.0]
+cells = [2, 4, 2]
+y_cut = 45.0
+cut_depth = 8.5
+cut_x = 100.0
+support = "clamped"
+[noise]
+force = 0.01
+profile = 0.02
+"#;
+
 #[test]
-fn identify_fits_a_force_file_at_a_given_nu_and_refuses_a_bad_one() {
+fn identify_fits_a_set_without_profiles_at_a_given_nu_and_refuses_a_bad_one() {
     let tmp = tempfile::tempdir().unwrap();
-    let forces = tmp.path().join("f.csv");
-    // Forces proportional to the pull: the model's force is E · g · d, with g the reaction
-    // of the fully cut default block at E = 1 MPa, ν = 0.45 and 1 mm pull, so E = 0.8 / g.
+    std::fs::write(tmp.path().join("specimen_T.toml"), SPECIMEN).unwrap();
+    // Forces proportional to the pull: the linear model's force is E · g · d, with g the
+    // reaction of this specimen, fully cut, at E = 1 MPa, ν = 0.45 and 1 mm pull, so the
+    // fit must give E = 0.8 / g.
     let mut block = models::scene::cutblock::CutBlock::new();
-    block.set("E", 1.0).unwrap();
-    block.set("nu", 0.45).unwrap();
+    for (name, value) in [
+        ("cells_x", 2.0),
+        ("cells_y", 4.0),
+        ("cells_z", 2.0),
+        ("E", 1.0),
+        ("nu", 0.45),
+    ] {
+        block.set(name, value).unwrap();
+    }
     block.initialize(0.0).unwrap();
     block.set("scalpel_x", 100.0).unwrap();
     block.set("pull", 1.0).unwrap();
     block.do_step(0.0, 1.0).unwrap();
     let expected = 0.8 / block.get("reaction_force").unwrap();
+    let forces = tmp.path().join("force_displacement_T.csv");
     let mut text = String::from("displacement_mm,force_N\n");
     for d in 0..=5 {
         text += &format!("{d},{}\n", 0.8 * f64::from(d));
@@ -62,28 +84,53 @@ fn identify_fits_a_force_file_at_a_given_nu_and_refuses_a_bad_one() {
     let out = tmp.path().join("id");
     let args = [
         "identify",
-        "--forces",
-        forces.to_str().unwrap(),
+        "--data",
+        tmp.path().to_str().unwrap(),
+        "--set",
+        "T",
+        "--material",
+        "linear",
+        "--element",
+        "tet4",
         "--nu",
         "0.45",
+        "--out",
+        out.to_str().unwrap(),
     ];
-    let o = harness(&[&args[..], &["--out", out.to_str().unwrap()]].concat());
-    let stdout = String::from_utf8_lossy(&o.stdout);
+    let o = harness(&args);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let fitted = stdout
-        .split("E from the forces at that ν: **")
-        .nth(1)
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let fitted = report
+        .rsplit("| E (MPa) | ")
+        .next()
         .and_then(|rest| rest.split_whitespace().next())
         .and_then(|e| e.parse::<f64>().ok())
-        .unwrap_or_else(|| panic!("no E in {stdout}"));
+        .unwrap_or_else(|| panic!("no E in {report}"));
     assert!((fitted - expected).abs() < 1e-5, "E {fitted} vs {expected}");
-    assert_files(&out, &["force_displacement.png", "force_displacement.svg"]);
+    assert_files(
+        &out,
+        &[
+            "identify_T_linear_tet4_forces.png",
+            "identify_T_linear_tet4_forces.svg",
+        ],
+    );
 
-    std::fs::write(&forces, "displacement_mm,force_N\n1,abc\n").unwrap();
-    let o = harness(&[&args[..], &["--out", out.to_str().unwrap()]].concat());
+    let o = harness(&[&args[..3], &["--set", "T", "--out", out.to_str().unwrap()]].concat());
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success());
-    assert!(err.contains("f.csv") && err.contains("row 1"), "{err}");
+    assert!(
+        err.contains("--nu"),
+        "a set without profiles needs ν: {err}"
+    );
+
+    std::fs::write(&forces, "displacement_mm,force_N\n1,abc\n").unwrap();
+    let o = harness(&args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(
+        err.contains("force_displacement_T.csv") && err.contains("row 1"),
+        "{err}"
+    );
 }
 
 #[test]

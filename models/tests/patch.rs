@@ -5,28 +5,12 @@
 use models::assembly::plane::{self, Continuum, PlaneProperties, Truss};
 use models::assembly::{solid, Assembler};
 use models::element::Elastic;
-use models::mesh::{generate, Mesh2d, Mesh3d};
+use models::mesh::{generate, Mesh2d};
 use models::solve::{statics::reactions, Factorization, Statics};
 use models::stress;
 
-/// Deterministic pseudo-random numbers in [−1, 1] (a hash of the index).
-fn jitter(i: usize, salt: u64) -> f64 {
-    let mut x = (i as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ salt;
-    x ^= x >> 31;
-    x = x.wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    x ^= x >> 29;
-    (x % 2_000_001) as f64 / 1_000_000.0 - 1.0
-}
-
-fn boundary_nodes(sets: &models::mesh::NodeSets, names: &[&str]) -> Vec<usize> {
-    let mut b: Vec<usize> = names
-        .iter()
-        .flat_map(|n| sets.get(n).unwrap().to_vec())
-        .collect();
-    b.sort_unstable();
-    b.dedup();
-    b
-}
+mod common;
+use common::{boundary_nodes, irregular_block, jitter};
 
 /// A rectangle mesh with interior nodes moved by up to 30 % of the cell size.
 fn irregular_plane() -> (Mesh2d, Vec<usize>) {
@@ -153,29 +137,6 @@ fn block_material() -> Continuum {
         elastic: Elastic::new("m", 1.3, 0.35).unwrap(),
         density: 1.0,
     }
-}
-
-/// A 3 × 3 × 3-cube block with interior nodes moved by up to 15 % of the cell size.
-fn irregular_block() -> (Mesh3d, Vec<usize>) {
-    let b = generate::block([3.0, 3.0, 3.0], [3, 3, 3]).unwrap();
-    let boundary = boundary_nodes(b.node_sets(), &["x0", "x1", "y0", "y1", "z0", "z1"]);
-    let nodes = b
-        .nodes()
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            if boundary.binary_search(&i).is_ok() {
-                *p
-            } else {
-                [
-                    p[0] + 0.15 * jitter(i, 3),
-                    p[1] + 0.15 * jitter(i, 4),
-                    p[2] + 0.15 * jitter(i, 5),
-                ]
-            }
-        })
-        .collect();
-    (Mesh3d::new(nodes, b.tets().to_vec()).unwrap(), boundary)
 }
 
 #[test]

@@ -4,24 +4,15 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 
-use super::identification::{self, shipped_data, Data};
-use super::{fields, speed_error, sweep, verification, Report, Section};
+use super::identification;
+use super::{cut_speed_error, fields, speed_error, sweep, verification, Report, Section};
 
 /// The default report's sections, in order.
-pub const SECTIONS: [Section; 6] = [
+pub const SECTIONS: [Section; 7] = [
     verification::section,
-    |r| {
-        let dir = shipped_data();
-        identification::section(
-            r,
-            Data::Set {
-                dir: &dir,
-                set: "A",
-            },
-            None,
-        )
-    },
+    identification::shipped,
     speed_error::section,
+    cut_speed_error::section,
     |r| sweep::shipped(r, "pelvis_sweep", &["configuration", "anatomy.outlet"]),
     |r| sweep::shipped(r, "cutblock_sweep", &["cut_depth"]),
     fields::section,

@@ -1,92 +1,258 @@
-//! The identification report: E (and ν, when profiles are given) of the cut block fitted to a
-//! measurement set (the shipped set A by default) or to a force–displacement CSV alone; the
-//! profile deviations against seed 002's acceptance criterion; the E–ν trade-off; plots of
-//! forces and profiles, data against model.
+//! The identification report: E and ν of a cut-block model fitted to a measurement set, with
+//! intervals, correlation and the model-form check (residuals against the stated noise);
+//! the profile deviations against seed 002's acceptance criterion; plots of forces and
+//! profiles, data against model. The default report fits the shipped sets A and C with the
+//! matching model (neo-Hookean tet10) and with the linear one.
 
-use std::path::Path;
-
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 use anyhow::Result;
+use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use models::scene::cutblock::PROFILE_STEP;
+use rayon::prelude::*;
 
 use super::plot::{self, Axis, Chart, Curve, Mark};
 use super::Report;
-use crate::studies::identify::{identify, response, Fit, Measurements, Response};
+use crate::studies::identify::{identify, Fit, Model, FORCE_LEVEL, NU_RANGE, PROFILE_LEVEL};
+use crate::studies::measurements::Measurements;
 use crate::studies::profiles::align;
 use crate::sweep::experiment::shipped_dir;
-
-/// What to fit: a measurement set (forces and profiles) or a force–displacement CSV alone.
-pub enum Data<'a> {
-    Set { dir: &'a Path, set: &'a str },
-    Forces(&'a Path),
-}
 
 /// The shipped measurement sets (`experiments/data/cutblock`).
 pub fn shipped_data() -> PathBuf {
     shipped_dir().join("data/cutblock")
 }
 
-/// The `identify` command: a report in `out` on a measurement set in `data` (the shipped
-/// sets by default) or on a force–displacement CSV alone.
-pub fn command(
-    data: Option<PathBuf>,
-    set: &str,
-    forces: Option<PathBuf>,
-    nu: Option<f64>,
-    out: &std::path::Path,
-) -> Result<PathBuf> {
+/// One fit to make: a set in a folder, a model, and ν if it is given.
+#[derive(Debug, Clone)]
+pub struct Job {
+    pub dir: PathBuf,
+    pub set: String,
+    pub model: Model,
+    pub nu: Option<f64>,
+}
+
+/// A finished fit with its data and how long it took.
+struct Done {
+    job: Job,
+    data: Measurements,
+    fit: Fit,
+    time: Duration,
+}
+
+/// The `identify` command: one fit, reported in `out`.
+pub fn command(job: Job, out: &Path) -> Result<PathBuf> {
     let mut report = Report::create(out, "Material identification")?;
-    let dir = data.unwrap_or_else(shipped_data);
-    let what = match &forces {
-        Some(path) => Data::Forces(path),
-        None => Data::Set { dir: &dir, set },
-    };
-    section(&mut report, what, nu)?;
+    let done = run(vec![job])?;
+    summary(&mut report, &done);
+    for d in &done {
+        fit_section(&mut report, d)?;
+    }
     report.finish()
 }
 
-/// Adds the section to `report`; `fixed_nu` skips the ν fit.
-pub fn section(report: &mut Report, data: Data, fixed_nu: Option<f64>) -> Result<()> {
-    let (m, name) = match data {
-        Data::Set { dir, set } => (
-            Measurements::load(dir, set)?,
-            format!("set {set} in {}", dir.display()),
-        ),
-        Data::Forces(path) => (Measurements::load_forces(path)?, path.display().to_string()),
-    };
-    report.heading(&format!("Material identification, cut block, {name}"));
-    let fit = identify(&m, fixed_nu)?;
-    let r = response(fit.nu, m.profile_pull)?;
-    let nu_source = if fixed_nu.is_some() {
-        "given"
-    } else {
-        "from the profiles (Brent's method, argmin)"
-    };
-    report.text(&format!(
-        "{} force–displacement points. ν {nu_source}: **{:.4}**; E from the forces at that ν: \
-         **{:.5} ± {:.5} MPa** (standard error). Force RMS residual {:.4} N (largest measured \
-         force {:.3} N).",
-        m.force.len(),
-        fit.nu,
-        fit.e,
-        fit.e_std,
-        fit.force_rms,
-        m.force.iter().copied().fold(0.0, f64::max),
-    ));
-    report.text(
-        "E–ν trade-off: with the pull prescribed the force is E · c(ν) · d, so the forces alone \
-         fit every ν equally well with its own E (their E–ν correlation is exact, −1 in the \
-         linearized sense); only the profiles pin ν down.",
-    );
-    forces_plot(report, &m, &fit, &r)?;
-    if m.has_profiles() {
-        profiles_section(report, &m, &fit, &r, fixed_nu.is_none())?;
+/// The default report's section: sets A and C with the neo-Hookean tet10 model (the law
+/// and element the data were made with) and the linear tet4 one, then a summary.
+pub fn shipped(report: &mut Report) -> Result<()> {
+    let mut jobs = Vec::new();
+    for set in ["A", "C"] {
+        for (material, element) in [("neo-hookean", "tet10"), ("linear", "tet4")] {
+            jobs.push(Job {
+                dir: shipped_data(),
+                set: set.into(),
+                model: Model::new(material, element),
+                nu: None,
+            });
+        }
+    }
+    let done = run(jobs)?;
+    report.heading("Material identification on the shipped sets A and C");
+    summary(report, &done);
+    for d in &done {
+        fit_section(report, d)?;
     }
     Ok(())
 }
 
-fn forces_plot(report: &mut Report, m: &Measurements, fit: &Fit, r: &Response) -> Result<()> {
+/// Runs the fits in parallel, each with a progress line.
+fn run(jobs: Vec<Job>) -> Result<Vec<Done>> {
+    let bars = MultiProgress::new();
+    let style = ProgressStyle::with_template("{spinner} {elapsed_precise} {msg}")
+        .expect("the template is valid");
+    jobs.into_par_iter()
+        .map(|job| {
+            let data = Measurements::load(&job.dir, &job.set)?;
+            let bar = bars.add(ProgressBar::new_spinner().with_style(style.clone()));
+            let name = format!("set {} with {}", job.set, job.model);
+            bar.set_message(format!("{name}: first run"));
+            let runs = std::sync::atomic::AtomicUsize::new(0);
+            let observe = |nu: f64, chi2: f64| {
+                let k = runs.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                bar.set_message(format!("{name}: run {k}, ν = {nu:.5}, χ² = {chi2:.4e}"));
+                bar.tick();
+            };
+            let start = Instant::now();
+            let fit = identify(&data, &job.model, job.nu, &observe)?;
+            bar.finish_and_clear();
+            Ok(Done {
+                job,
+                data,
+                fit,
+                time: start.elapsed(),
+            })
+        })
+        .collect()
+}
+
+/// Whether the fit is at the noise level, in words.
+fn verdict(d: &Done) -> &'static str {
+    match (d.fit.at_noise_level(&d.data), d.fit.at_bound) {
+        (true, false) => "at the noise level",
+        (true, true) => "at the noise level, but ν at the end of its search interval",
+        (false, false) => "**not** at the noise level: model-form error",
+        (false, true) => {
+            "**not** at the noise level, ν at the end of its search interval: model-form error"
+        }
+    }
+}
+
+fn summary(report: &mut Report, done: &[Done]) {
+    report.text(&format!(
+        "E and ν with 95 % intervals (±1.96 σ from the Jacobian and the stated noise); the \
+         residuals against the noise: a model that matches the experiment gives force RMS / \
+         σ_F ≤ {FORCE_LEVEL} and profile RMS / σ_P ≤ {PROFILE_LEVEL}."
+    ));
+    let rows: Vec<Vec<String>> = done
+        .iter()
+        .map(|d| {
+            let f = &d.fit;
+            let noise = d.data.specimen.noise;
+            vec![
+                d.job.set.clone(),
+                f.model.to_string(),
+                format!("{:.5} ± {:.5}", f.e, 1.96 * f.sigma_e),
+                f.sigma_nu.map_or(format!("{:.4} (given)", f.nu), |s| {
+                    format!("{:.4} ± {:.4}", f.nu, 1.96 * s)
+                }),
+                format!("{:.2}", f.force_rms / noise.force),
+                format!("{:.2}", f.profile_rms / noise.profile),
+                verdict(d).into(),
+                format!("{:.0}", d.time.as_secs_f64()),
+            ]
+        })
+        .collect();
+    report.table(
+        &[
+            "set",
+            "model",
+            "E (MPa)",
+            "ν",
+            "force RMS / σ_F",
+            "profile RMS / σ_P",
+            "verdict",
+            "time (s)",
+        ],
+        &rows,
+    );
+}
+
+/// One fit: parameters, residuals, warnings, plots and the profile table.
+fn fit_section(report: &mut Report, d: &Done) -> Result<()> {
+    let (f, m) = (&d.fit, &d.data);
+    let s = &m.specimen;
+    let noise = s.noise;
+    report.heading(&format!(
+        "Identification: set {} in {}, {} model",
+        d.job.set,
+        d.job.dir.display(),
+        f.model
+    ));
+    report.text(&format!(
+        "Specimen: {} × {} × {} mm, cut at y = {} mm, {} mm deep, x from 0 to {} mm, {} \
+         supports, {} × {} × {} cells. {} force points (σ_F = {} N), {} profile points \
+         (σ_P = {} mm). {} runs of the scene, {:.0} s.",
+        s.size[0],
+        s.size[1],
+        s.size[2],
+        s.y_cut,
+        s.cut_depth,
+        s.cut_x,
+        s.support,
+        s.cells[0],
+        s.cells[1],
+        s.cells[2],
+        m.force.len(),
+        noise.force,
+        m.profiles.iter().map(Vec::len).sum::<usize>(),
+        noise.profile,
+        f.evaluations,
+        d.time.as_secs_f64()
+    ));
+    let mut rows = vec![vec![
+        "E (MPa)".to_string(),
+        format!("{:.5}", f.e),
+        format!("{:.2e}", f.sigma_e),
+        format!(
+            "[{:.5}, {:.5}]",
+            f.e - 1.96 * f.sigma_e,
+            f.e + 1.96 * f.sigma_e
+        ),
+    ]];
+    match f.sigma_nu {
+        Some(sn) => rows.push(vec![
+            "ν".into(),
+            format!("{:.4}", f.nu),
+            format!("{sn:.2e}"),
+            format!("[{:.4}, {:.4}]", f.nu - 1.96 * sn, f.nu + 1.96 * sn),
+        ]),
+        None => rows.push(vec![
+            "ν (given)".into(),
+            f.nu.to_string(),
+            "–".into(),
+            "–".into(),
+        ]),
+    }
+    report.table(&["parameter", "estimate", "σ", "95 % interval"], &rows);
+    if f.at_bound {
+        report.text(&format!(
+            "ν ran to the end of the search interval [{}, {}]: no admissible ν fits the \
+             profiles, so this ν and the E that goes with it are not material properties, \
+             and their intervals mean nothing.",
+            NU_RANGE.0, NU_RANGE.1
+        ));
+    }
+    if let Some(c) = f.correlation {
+        report.text(&format!(
+            "Correlation of E and ν: {c:+.3}. ν comes from the profiles; the forces alone \
+             would trade E against ν along F = E · g(ν, d)."
+        ));
+    }
+    report.text(&format!(
+        "Model-form check: force RMS residual {:.4} N = {:.2} σ_F (χ² per point {:.2}); \
+         profile RMS {:.4} mm = {:.2} σ_P. The fit is {}.",
+        f.force_rms,
+        f.force_rms / noise.force,
+        f.force_chi2,
+        f.profile_rms,
+        f.profile_rms / noise.profile,
+        verdict(d)
+    ));
+    if !f.response.warnings.is_empty() {
+        report.text(&format!(
+            "The scene warned: {}",
+            f.response.warnings.join("; ")
+        ));
+    }
+    let stem = format!("identify_{}_{}", d.job.set, f.model).replace([' ', '-'], "_");
+    forces_plot(report, m, f, &stem)?;
+    if m.has_profiles() {
+        profiles_section(report, m, f, &stem)?;
+    }
+    Ok(())
+}
+
+fn forces_plot(report: &mut Report, m: &Measurements, f: &Fit, stem: &str) -> Result<()> {
     let data = m
         .displacement
         .iter()
@@ -96,11 +262,13 @@ fn forces_plot(report: &mut Report, m: &Measurements, fit: &Fit, r: &Response) -
     let model = m
         .displacement
         .iter()
-        .map(|&d| (d, fit.e * r.force_per_e_mm * d))
+        .zip(&f.response.force_per_e)
+        .map(|(&d, g)| (d, f.e * g))
         .collect();
-    let label = format!("model, E = {:.4} MPa, ν = {:.3}", fit.e, fit.nu);
+    let label = format!("{}, E = {:.4} MPa, ν = {:.3}", f.model, f.e, f.nu);
+    let name = format!("{stem}_forces");
     plot::chart(
-        &report.path("force_displacement"),
+        &report.path(&name),
         &Chart {
             title: "Cut block: reaction force, data vs fit".into(),
             x: Axis::linear("pull displacement (mm)"),
@@ -111,39 +279,24 @@ fn forces_plot(report: &mut Report, m: &Measurements, fit: &Fit, r: &Response) -
             ],
         },
     )?;
-    report.figure(
-        "Force–displacement: data and fitted model",
-        "force_displacement",
-    );
+    report.figure("Force–displacement: data and fitted model", &name);
     Ok(())
 }
 
-fn profiles_section(
-    report: &mut Report,
-    m: &Measurements,
-    fit: &Fit,
-    r: &Response,
-    nu_fitted: bool,
-) -> Result<()> {
-    report.text(&format!("Profile RMS deviation {:.4} mm.", fit.profile_rms));
-    if nu_fitted && fit.nu > 0.498 {
-        report.text(
-            "ν sits at the upper end of the search interval: the profile misfit keeps falling \
-             toward incompressibility, a sign of model-form error (the linear model overshoots \
-             the rise near the cut), so this ν is not a trustworthy material value.",
-        );
-    }
+fn profiles_section(report: &mut Report, m: &Measurements, f: &Fit, stem: &str) -> Result<()> {
     report.text(
         "Profile deviation per scan line; acceptance (seed 002 §3.5): max below 1 % of the \
-         largest block dimension = 1 mm. Lab frame: scanner and model share the clamped edge \
-         y = 0, no offset. Aligned: the scan shifted rigidly by the (Δy, Δz) that minimizes its \
-         RMS deviation (`harness/src/profiles.rs`), for scans whose registration is uncertain.",
+         largest block dimension. Lab frame: scanner and model share the clamped edge y = 0, \
+         no offset. Aligned: the scan shifted rigidly by the (Δy, Δz) that minimizes its RMS \
+         deviation (`harness/src/studies/profiles.rs`), for scans whose registration is \
+         uncertain.",
     );
-    let verdict = |max: f64| if max < 1.0 { "meets" } else { "misses" };
+    let limit = 0.01 * m.specimen.size.iter().copied().fold(0.0, f64::max);
+    let verdict = |max: f64| if max < limit { "meets" } else { "misses" };
     let mut rows = Vec::new();
     for (k, x) in [25, 50, 75].iter().enumerate() {
-        let lab = fit.lines[k];
-        let a = align(&r.profiles[k], &m.profiles[k])?;
+        let lab = f.lines[k];
+        let a = align(&f.response.profiles[k], &m.profiles[k])?;
         rows.push(vec![
             format!("x = {x} mm"),
             lab.points.to_string(),
@@ -166,18 +319,11 @@ fn profiles_section(
         ],
         &rows,
     );
-    report.text("Profile misfit and the force-only E over ν:");
-    let scan: Vec<Vec<String>> = fit
-        .scan
-        .iter()
-        .map(|(nu, rms, e)| vec![nu.to_string(), format!("{rms:.4}"), format!("{e:.5}")])
-        .collect();
-    report.table(&["ν", "profile RMS (mm)", "E from forces (MPa)"], &scan);
     let mut curves = Vec::new();
     for (k, x) in [25, 50, 75].iter().enumerate() {
         let data = m.profiles[k].clone();
         curves.push(Curve::new(&format!("scan x = {x} mm"), data, Mark::Dots).colour(k));
-        let model = r.profiles[k]
+        let model = f.response.profiles[k]
             .iter()
             .enumerate()
             .filter(|(_, z)| z.is_finite())
@@ -185,18 +331,20 @@ fn profiles_section(
             .collect();
         curves.push(Curve::new(&format!("model x = {x} mm"), model, Mark::Line).colour(k));
     }
+    let name = format!("{stem}_profiles");
     plot::chart(
-        &report.path("profiles"),
+        &report.path(&name),
         &Chart {
             title: format!(
-                "Top-surface profiles at {} mm pull, data vs model",
-                m.profile_pull
+                "Top-surface profiles at {} mm pull, data vs {}",
+                m.profile_pull(),
+                f.model
             ),
             x: Axis::linear("y along the pull (mm)"),
             y: Axis::linear("surface height z (mm)"),
             curves,
         },
     )?;
-    report.figure("Laser profiles: scanner data and model", "profiles");
+    report.figure("Laser profiles: scanner data and model", &name);
     Ok(())
 }

@@ -11,6 +11,7 @@
 //! series        one run of a scene as a time-series CSV (`harness simulate`)
 //! ```
 
+pub mod cut_speed_error;
 pub mod default;
 pub mod fields;
 pub mod identification;

@@ -1,287 +1,444 @@
-//! Material identification for the cut block (seed 002 ch. 4) and comparison with laser
-//! profiles (seed 002 §3.5).
+//! Material identification for the cut block (seed 002 ch. 4) from a measurement set
+//! ([`Measurements`]): E and ν of a chosen model (material law and element), with intervals
+//! and a model-form check.
 //!
-//! With the pull prescribed, the linear model's displacements do not depend on E, and its
-//! reaction force is F = E · d · c(ν). So the force–displacement curve alone fixes only the
-//! product E · c(ν) — E and ν trade off exactly, as seed 002 ch. 4 found — while the profiles
-//! fix ν alone. The fit therefore takes ν from the profiles (Brent's method from argmin on the
-//! RMS profile deviation) and then E from the forces by linear least squares, with its
-//! standard error; a scan over ν shows how the force-only estimate of E moves with ν. This
-//! two-stage fit is the joint least-squares fit of forces and profiles: for every ν the force
-//! residual at its best E is the same, so the joint minimum over (E, ν) lies at the ν that
-//! minimizes the profile misfit. With `fixed_nu` (or without profiles) only E is fitted.
+//! With the pull prescribed, the displacements of the linear and the hyperelastic models do
+//! not depend on E (μ and λ both scale with it), so the reaction force is F = E · g(ν, d)
+//! and the profiles depend on ν alone. The fit minimizes the misfit weighted by the stated
+//! noise levels,
 //!
-//! Profiles are compared in lab coordinates (`crate::profiles`), the frame both the scanner
-//! data and the model's stations use (clamped edge at y = 0); points where the model has no
-//! surface (the open cut) are skipped.
-
-use std::path::Path;
+//! χ²(E, ν) = Σᵢ ((Fᵢ − E g(ν, dᵢ)) / σ_F)² + Σⱼ ((zⱼ − hⱼ(ν)) / σ_P)²,
+//!
+//! by separation (variable projection): for each ν, E is the linear least-squares solution
+//! E(ν) = Σ F g / Σ g², and ν minimizes χ²(E(ν), ν) by Brent's method (argmin) in
+//! [`NU_RANGE`]. g(ν, d) comes from one run of the scene per ν with E = 1 through the
+//! measured pulls (a nonlinear solve at each for the finite-strain laws), h(ν) from the same
+//! run at the largest pull. The profiles carry nearly all the information on ν: the forces
+//! alone fit almost any ν with its own E (the E–ν trade-off seed 002 ch. 4 found). Without
+//! profiles ν must be given and only E is fitted.
+//!
+//! Uncertainty: the Gauss–Newton covariance (JᵀJ)⁻¹ of the weighted residuals at the
+//! optimum, with ∂/∂ν by central differences ([`NU_STEP`]); intervals are ±1.96 σ under
+//! the stated noise. Model-form check: the RMS force residual against σ_F (χ² per point)
+//! and the profile RMS against σ_P; a fit is at the noise level within [`FORCE_LEVEL`] and
+//! [`PROFILE_LEVEL`] of them.
+//!
+//! Profiles are compared in lab coordinates ([`super::profiles`]); points where the model
+//! has no surface (the open cut) are skipped.
 
 use std::collections::BTreeMap;
+use std::sync::Mutex;
 
 use anyhow::{bail, Context, Result};
 use argmin::core::{CostFunction, Error as ArgminError, Executor};
 use argmin::solver::brent::BrentOpt;
 use models::scene::cutblock::{CutBlock, PROFILE_LINES};
 
-use super::profiles::{deviation, Deviation};
+use super::measurements::{Measurements, Specimen};
+use super::profiles::{deviation, heights, Deviation};
 use crate::sweep::{simulate, InProcess, InputTable, Schedule, Value};
 
-/// A measurement set: force–displacement points and the top profiles at the largest pull.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Measurements {
-    pub displacement: Vec<f64>,
-    pub force: Vec<f64>,
-    /// (y, z) points along x = 25, 50, 75 mm.
-    pub profiles: [Vec<(f64, f64)>; 3],
-    /// The pull at which the profiles were taken (mm).
-    pub profile_pull: f64,
+/// The interval Brent's method searches for ν.
+pub const NU_RANGE: (f64, f64) = (0.05, 0.499);
+/// The relative tolerance of Brent's method on ν.
+const BRENT_TOLERANCE: f64 = 1e-4;
+/// The step of the central differences in ν.
+pub const NU_STEP: f64 = 1e-3;
+/// A fit is at the noise level when its RMS force residual is within this factor of the
+/// force noise and its profile RMS within [`PROFILE_LEVEL`] of the scanner noise.
+pub const FORCE_LEVEL: f64 = 1.5;
+pub const PROFILE_LEVEL: f64 = 3.0;
+
+/// The model fitted: the cut block's `material` and `element`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Model {
+    pub material: String,
+    pub element: String,
 }
 
-fn read_pairs(path: &Path) -> Result<Vec<(f64, f64)>> {
-    let mut reader =
-        csv::Reader::from_path(path).with_context(|| format!("opening {}", path.display()))?;
-    let mut out = Vec::new();
-    for (i, row) in reader.deserialize::<(f64, f64)>().enumerate() {
-        out.push(row.with_context(|| format!("{}: data row {}", path.display(), i + 1))?);
-    }
-    if out.is_empty() {
-        bail!("{} has no data rows", path.display());
-    }
-    Ok(out)
-}
-
-impl Measurements {
-    /// Reads `force_displacement_<set>.csv` and `profile_<set>_x25/50/75.csv` from `dir`;
-    /// the profiles are taken at the largest displacement.
-    pub fn load(dir: &Path, set: &str) -> Result<Self> {
-        let forces = Self::load_forces(&dir.join(format!("force_displacement_{set}.csv")))?;
-        let [a, b, c] =
-            [25, 50, 75].map(|x| read_pairs(&dir.join(format!("profile_{set}_x{x}.csv"))));
-        Ok(Self {
-            profiles: [a?, b?, c?],
-            ..forces
-        })
-    }
-
-    /// Reads a force–displacement CSV alone (no profiles: ν must then be given).
-    pub fn load_forces(path: &Path) -> Result<Self> {
-        let fd = read_pairs(path)?;
-        Ok(Self {
-            profile_pull: fd.iter().map(|p| p.0).fold(f64::MIN, f64::max),
-            displacement: fd.iter().map(|p| p.0).collect(),
-            force: fd.iter().map(|p| p.1).collect(),
-            profiles: Default::default(),
-        })
-    }
-
-    /// Whether scanner profiles were given.
-    pub fn has_profiles(&self) -> bool {
-        self.profiles.iter().any(|p| !p.is_empty())
+impl Model {
+    pub fn new(material: &str, element: &str) -> Self {
+        Self {
+            material: material.into(),
+            element: element.into(),
+        }
     }
 }
 
-/// The model's response for ν: reaction force per unit E and unit pull, and the three
-/// profiles at `pull` (heights at the model's stations, NaN where there is no surface).
+impl std::fmt::Display for Model {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} {}", self.material, self.element)
+    }
+}
+
+/// The model's response for one ν with E = 1.
 #[derive(Debug, Clone)]
 pub struct Response {
-    pub force_per_e_mm: f64,
+    pub nu: f64,
+    /// Reaction force per unit E at each measured pull: g(ν, d).
+    pub force_per_e: Vec<f64>,
+    /// Heights at the model's stations along x = 25, 50, 75 mm at the largest pull (NaN
+    /// where there is no surface); empty without profiles.
     pub profiles: [Vec<f64>; 3],
+    /// What the scene warned about (e.g. the linear law beyond its strain).
+    pub warnings: Vec<String>,
 }
 
-/// Runs the default cut block (full-width cut) with E = 1 and Poisson's ratio `nu`: pulled
-/// 1 mm over the first second, `pull` over the second.
-pub fn response(nu: f64, pull: f64) -> Result<Response> {
-    let settings = [
+/// Runs the specimen of `m` with `model`, E = 1 and `nu` through the measured pulls, with
+/// the profiles if `m` has scans.
+pub fn response(m: &Measurements, model: &Model, nu: f64) -> Result<Response> {
+    run(&m.specimen, &m.displacement, model, nu, m.has_profiles())
+}
+
+/// Runs `specimen` with `model`, E = 1 and `nu` through `pulls`; records the profiles at
+/// the last pull if `scans`.
+pub fn run(
+    specimen: &Specimen,
+    pulls: &[f64],
+    model: &Model,
+    nu: f64,
+    scans: bool,
+) -> Result<Response> {
+    let mut settings = specimen.settings();
+    settings.extend([
+        ("material".to_string(), Value::Text(model.material.clone())),
+        ("element".to_string(), Value::Text(model.element.clone())),
         ("E".to_string(), Value::Real(1.0)),
         ("nu".to_string(), Value::Real(nu)),
-    ];
+    ]);
+    let n = pulls.len();
+    // The input rule: the output row k + 1 responds to the pull set at time k.
     let inputs = BTreeMap::from([
-        ("scalpel_x".to_string(), InputTable::constant(100.0)),
+        (
+            "scalpel_x".to_string(),
+            InputTable::constant(specimen.cut_x),
+        ),
         (
             "pull".to_string(),
             InputTable {
-                time: vec![0.0, 1.0],
-                value: vec![1.0, pull],
+                time: (0..n).map(|k| k as f64).collect(),
+                value: pulls.to_vec(),
             },
         ),
     ]);
     let profiles = PROFILE_LINES.map(|x| format!("profile_x{x:.0}"));
     let mut record = vec!["reaction_force".to_string()];
-    record.extend(profiles.iter().cloned());
+    if scans {
+        record.extend(profiles.iter().cloned());
+    }
     let schedule = Schedule {
         start_time: 0.0,
-        stop_time: 2.0,
+        stop_time: n as f64,
         step: 1.0,
         settings: &settings,
         inputs: &inputs,
         record: &record,
     };
-    let series = simulate(&mut InProcess(Box::new(CutBlock::new())), &schedule)?.series;
-    let force = series.column("reaction_force").context("recorded")?;
-    let profile = |name: &String| series.array(name, 2).context("recorded");
+    let run = simulate(&mut InProcess(Box::new(CutBlock::new())), &schedule)
+        .with_context(|| format!("{model} at ν = {nu}"))?;
+    let force = run.series.column("reaction_force").context("recorded")?;
+    let profile = |name: &String| {
+        if scans {
+            run.series.array(name, n).context("recorded")
+        } else {
+            Ok(Vec::new())
+        }
+    };
     let [a, b, c] = profiles.each_ref().map(profile);
     Ok(Response {
-        force_per_e_mm: force[1],
+        nu,
+        force_per_e: force[1..].to_vec(),
         profiles: [a?, b?, c?],
+        warnings: run.warnings,
     })
 }
 
-fn profile_rms(r: &Response, m: &Measurements) -> f64 {
-    let (mut sum, mut n) = (0.0, 0);
-    for (model, data) in r.profiles.iter().zip(&m.profiles) {
-        let d = deviation(model, data);
-        sum += d.rms * d.rms * d.points as f64;
-        n += d.points;
-    }
-    (sum / n.max(1) as f64).sqrt()
+/// E by least squares on the forces: E = Σ F g / Σ g².
+pub fn fit_e(g: &[f64], m: &Measurements) -> f64 {
+    let gg: f64 = g.iter().map(|x| x * x).sum();
+    g.iter().zip(&m.force).map(|(g, f)| g * f).sum::<f64>() / gg
 }
 
-/// E by least squares on the forces for a model force per unit E and pull: E = Σ F g / Σ g²
-/// with g = d · force_per_e_mm; returns (E, standard error, RMS force residual).
-pub fn fit_e(force_per_e_mm: f64, m: &Measurements) -> (f64, f64, f64) {
-    let g: Vec<f64> = m.displacement.iter().map(|d| d * force_per_e_mm).collect();
-    let gg: f64 = g.iter().map(|x| x * x).sum();
-    let e = g.iter().zip(&m.force).map(|(g, f)| g * f).sum::<f64>() / gg;
-    let ssr: f64 = g
-        .iter()
+/// Σ (F − E g)² over the measured pulls.
+fn force_ssr(e: f64, g: &[f64], m: &Measurements) -> f64 {
+    g.iter()
         .zip(&m.force)
         .map(|(g, f)| (f - e * g).powi(2))
-        .sum();
-    let n = m.force.len();
-    let std = (ssr / (n.saturating_sub(1).max(1)) as f64 / gg).sqrt();
-    (e, std, (ssr / n as f64).sqrt())
+        .sum()
 }
 
-struct ProfileCost<'a>(&'a Measurements);
+/// The deviation of each scanned line.
+fn lines(r: &Response, m: &Measurements) -> [Deviation; 3] {
+    [0, 1, 2].map(|k| deviation(&r.profiles[k], &m.profiles[k]))
+}
 
-impl CostFunction for ProfileCost<'_> {
-    type Param = f64;
-    type Output = f64;
+/// Σ (z − h)² over all compared profile points, and their number.
+fn profile_ssr(r: &Response, m: &Measurements) -> (f64, usize) {
+    lines(r, m).iter().fold((0.0, 0), |(s, n), d| {
+        (s + d.rms * d.rms * d.points as f64, n + d.points)
+    })
+}
 
-    fn cost(&self, nu: &f64) -> Result<f64, ArgminError> {
-        let r = response(*nu, self.0.profile_pull).map_err(|e| ArgminError::msg(e.to_string()))?;
-        Ok(profile_rms(&r, self.0))
-    }
+/// χ²(E(ν), ν): the misfit at the best E for this response.
+fn chi2(r: &Response, m: &Measurements) -> f64 {
+    let noise = m.specimen.noise;
+    let e = fit_e(&r.force_per_e, m);
+    let (profiles, _) = profile_ssr(r, m);
+    force_ssr(e, &r.force_per_e, m) / noise.force.powi(2) + profiles / noise.profile.powi(2)
 }
 
 /// The identification result.
 #[derive(Debug, Clone)]
 pub struct Fit {
+    pub model: Model,
     pub nu: f64,
     pub e: f64,
-    pub e_std: f64,
+    /// Standard deviations under the stated noise; ν's and the correlation only when ν was
+    /// fitted.
+    pub sigma_e: f64,
+    pub sigma_nu: Option<f64>,
+    pub correlation: Option<f64>,
+    /// RMS force residual (N) and χ² per force point.
     pub force_rms: f64,
+    pub force_chi2: f64,
+    /// RMS profile deviation (mm) over all compared points, and each line's deviation.
     pub profile_rms: f64,
     pub lines: [Deviation; 3],
-    /// (ν, profile RMS, E fitted to the forces alone at that ν).
-    pub scan: Vec<(f64, f64, f64)>,
+    /// Whether the fitted ν lies at an end of [`NU_RANGE`]: the model fits best with a ν
+    /// outside what it can take, so ν (and E with it) is no material value.
+    pub at_bound: bool,
+    /// The model's response at the fitted ν.
+    pub response: Response,
+    /// Runs of the scene the fit needed.
+    pub evaluations: usize,
 }
 
-/// Fits ν to the profiles (ν ∈ [0.05, 0.499]) unless `fixed_nu` is given, then E to the
-/// forces.
-pub fn identify(m: &Measurements, fixed_nu: Option<f64>) -> Result<Fit> {
-    let nu = match fixed_nu {
-        Some(nu) if (0.0..0.5).contains(&nu) => nu,
-        Some(nu) => bail!("ν = {nu} is outside [0, 0.5)"),
-        None if !m.has_profiles() => {
-            bail!("no profiles to fit ν to: give ν to fit E alone from the forces")
-        }
-        None => Executor::new(ProfileCost(m), BrentOpt::new(0.05, 0.499))
-            .configure(|s| s.max_iters(40))
-            .run()
-            .map_err(|e| anyhow::anyhow!("ν fit: {e}"))?
-            .state()
-            .best_param
-            .context("ν fit returned no parameter")?,
-    };
-    let r = response(nu, m.profile_pull)?;
-    let (e, e_std, force_rms) = fit_e(r.force_per_e_mm, m);
-    let lines = [0, 1, 2].map(|k| deviation(&r.profiles[k], &m.profiles[k]));
-    let mut scan = Vec::new();
-    for v in [0.3, 0.4, 0.43, 0.45, 0.47, 0.49] {
-        let rv = response(v, m.profile_pull)?;
-        scan.push((v, profile_rms(&rv, m), fit_e(rv.force_per_e_mm, m).0));
+impl Fit {
+    /// Whether the residuals are at the stated noise level (see [`FORCE_LEVEL`]).
+    pub fn at_noise_level(&self, m: &Measurements) -> bool {
+        let noise = m.specimen.noise;
+        self.force_rms <= FORCE_LEVEL * noise.force
+            && (!m.has_profiles() || self.profile_rms <= PROFILE_LEVEL * noise.profile)
     }
+}
+
+/// The responses computed so far, by ν (Brent's method revisits none, but the report and
+/// the differences reuse them).
+struct Cache<'a> {
+    m: &'a Measurements,
+    model: &'a Model,
+    runs: Mutex<Vec<Response>>,
+    observe: &'a (dyn Fn(f64, f64) + Sync),
+}
+
+impl Cache<'_> {
+    fn get(&self, nu: f64) -> Result<Response> {
+        let known = self.runs.lock().expect("no panic holds the lock");
+        if let Some(r) = known.iter().find(|r| r.nu == nu) {
+            return Ok(r.clone());
+        }
+        drop(known);
+        let r = response(self.m, self.model, nu)?;
+        (self.observe)(nu, chi2(&r, self.m));
+        self.runs
+            .lock()
+            .expect("no panic holds the lock")
+            .push(r.clone());
+        Ok(r)
+    }
+}
+
+impl CostFunction for &Cache<'_> {
+    type Param = f64;
+    type Output = f64;
+
+    fn cost(&self, nu: &f64) -> Result<f64, ArgminError> {
+        let r = self
+            .get(*nu)
+            .map_err(|e| ArgminError::msg(format!("{e:#}")))?;
+        Ok(chi2(&r, self.m))
+    }
+}
+
+/// Fits ν (unless `fixed_nu` is given) and E of `model` to `m`. `observe(ν, χ²)` is called
+/// after each run of the scene (for progress).
+pub fn identify(
+    m: &Measurements,
+    model: &Model,
+    fixed_nu: Option<f64>,
+    observe: &(dyn Fn(f64, f64) + Sync),
+) -> Result<Fit> {
+    let cache = Cache {
+        m,
+        model,
+        runs: Mutex::new(Vec::new()),
+        observe,
+    };
+    let nu = match fixed_nu {
+        Some(nu) if (-1.0..0.5).contains(&nu) => nu,
+        Some(nu) => bail!("--nu {nu} is outside (−1, 0.5)"),
+        None if !m.has_profiles() => {
+            bail!("the set has no profiles to fit ν to: give ν (--nu) to fit E alone")
+        }
+        None => {
+            let brent = BrentOpt::new(NU_RANGE.0, NU_RANGE.1).set_tolerance(BRENT_TOLERANCE, 1e-6);
+            let result = Executor::new(&cache, brent)
+                .configure(|s| s.max_iters(60))
+                .run()
+                .map_err(|e| anyhow::anyhow!("ν fit: {e}"))?;
+            result
+                .state()
+                .best_param
+                .context("the ν fit returned no parameter")?
+        }
+    };
+    let r = cache.get(nu)?;
+    let e = fit_e(&r.force_per_e, m);
+    let covariance = if fixed_nu.is_none() {
+        let (lo, hi) = rayon::join(|| cache.get(nu - NU_STEP), || cache.get(nu + NU_STEP));
+        Some(covariance(m, e, &r, &lo?, &hi?)?)
+    } else {
+        None
+    };
+    let gg: f64 = r.force_per_e.iter().map(|g| g * g).sum();
+    let n = m.force.len() as f64;
+    let ssr = force_ssr(e, &r.force_per_e, m);
+    let (profiles, points) = profile_ssr(&r, m);
+    let evaluations = cache.runs.lock().expect("no panic holds the lock").len();
     Ok(Fit {
+        model: model.clone(),
         nu,
         e,
-        e_std,
-        force_rms,
-        profile_rms: profile_rms(&r, m),
-        lines,
-        scan,
+        sigma_e: covariance.map_or(m.specimen.noise.force / gg.sqrt(), |c| c[0][0].sqrt()),
+        sigma_nu: covariance.map(|c| c[1][1].sqrt()),
+        correlation: covariance.map(|c| c[0][1] / (c[0][0] * c[1][1]).sqrt()),
+        force_rms: (ssr / n).sqrt(),
+        force_chi2: ssr / m.specimen.noise.force.powi(2) / n,
+        profile_rms: (profiles / points.max(1) as f64).sqrt(),
+        lines: lines(&r, m),
+        at_bound: fixed_nu.is_none() && (nu - NU_RANGE.0).min(NU_RANGE.1 - nu) < 2.0 * NU_STEP,
+        response: r,
+        evaluations,
     })
+}
+
+/// (JᵀJ)⁻¹ for (E, ν) from the weighted residuals at the optimum, ∂/∂ν from the responses
+/// at ν ∓ [`NU_STEP`].
+fn covariance(
+    m: &Measurements,
+    e: f64,
+    r: &Response,
+    lo: &Response,
+    hi: &Response,
+) -> Result<[[f64; 2]; 2]> {
+    let noise = m.specimen.noise;
+    let mut jtj = [[0.0; 2]; 2];
+    let mut add = |row: [f64; 2]| {
+        for a in 0..2 {
+            for b in 0..2 {
+                jtj[a][b] += row[a] * row[b];
+            }
+        }
+    };
+    for k in 0..m.force.len() {
+        let dg = (hi.force_per_e[k] - lo.force_per_e[k]) / (2.0 * NU_STEP);
+        add([r.force_per_e[k] / noise.force, e * dg / noise.force]);
+    }
+    for line in 0..3 {
+        let at = |q: &Response| heights(&q.profiles[line], &m.profiles[line]);
+        let (h, h_lo, h_hi) = (at(r), at(lo), at(hi));
+        for ((h, l), u) in h.iter().zip(&h_lo).zip(&h_hi) {
+            if let (Some(_), Some(l), Some(u)) = (h, l, u) {
+                add([0.0, (u - l) / (2.0 * NU_STEP) / noise.profile]);
+            }
+        }
+    }
+    let det = jtj[0][0] * jtj[1][1] - jtj[0][1] * jtj[1][0];
+    if det.is_nan() || det <= 0.0 {
+        bail!("E and ν cannot be told apart by these data (singular information matrix)");
+    }
+    Ok([
+        [jtj[1][1] / det, -jtj[0][1] / det],
+        [-jtj[1][0] / det, jtj[0][0] / det],
+    ])
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::studies::measurements::Noise;
+    use models::scene::cutblock::PROFILE_STEP;
 
-    /// Data generated by the model itself with known E and ν.
-    fn synthetic(e: f64, nu: f64) -> Measurements {
-        let r = response(nu, 10.0).unwrap();
-        let displacement: Vec<f64> = (0..=10).map(f64::from).collect();
-        let force = displacement
-            .iter()
-            .map(|d| e * d * r.force_per_e_mm)
-            .collect();
-        let profiles = r.profiles.clone().map(|p| {
-            p.iter()
-                .enumerate()
-                .filter(|(_, z)| z.is_finite())
-                .map(|(i, z)| (i as f64 * models::scene::cutblock::PROFILE_STEP, *z))
-                .collect()
-        });
+    /// A specimen other than the default: coarser, cut at y = 35 mm, 6 mm deep.
+    fn specimen() -> Specimen {
+        Specimen {
+            size: [100.0, 80.0, 17.0],
+            cells: [4, 8, 6],
+            y_cut: 35.0,
+            cut_depth: 6.0,
+            cut_x: 100.0,
+            support: "clamped".into(),
+            noise: Noise {
+                force: 0.03,
+                profile: 0.02,
+            },
+        }
+    }
+
+    /// Noise-free data of `model` with known E and ν on [`specimen`], pulls 0, 2, …, 10 mm.
+    fn synthetic(model: &Model, e: f64, nu: f64) -> Measurements {
+        let displacement: Vec<f64> = (0..=5).map(|k| 2.0 * f64::from(k)).collect();
+        let r = run(&specimen(), &displacement, model, nu, true).unwrap();
         Measurements {
+            specimen: specimen(),
+            force: r.force_per_e.iter().map(|g| e * g).collect(),
             displacement,
-            force,
-            profiles,
-            profile_pull: 10.0,
+            profiles: r.profiles.map(|p| {
+                p.iter()
+                    .enumerate()
+                    .filter(|(_, z)| z.is_finite())
+                    .map(|(i, z)| (i as f64 * PROFILE_STEP, *z))
+                    .collect()
+            }),
         }
     }
 
     #[test]
-    fn recovers_known_parameters_within_one_percent() {
-        let (e, nu) = (0.05, 0.4);
-        let fit = identify(&synthetic(e, nu), None).unwrap();
+    fn recovers_known_parameters_of_the_neo_hookean_tet10_model() {
+        let model = Model::new("neo-hookean", "tet10");
+        let (e, nu) = (0.045, 0.42);
+        let m = synthetic(&model, e, nu);
+        let fit = identify(&m, &model, None, &|_, _| {}).unwrap();
         println!(
-            "fit: E = {:.6} (true {e}), ν = {:.5} (true {nu})",
-            fit.e, fit.nu
+            "fit: E = {:.6} ± {:.2e} (true {e}), ν = {:.5} ± {:.2e} (true {nu}), \
+             correlation {:.3}, {} runs",
+            fit.e,
+            fit.sigma_e,
+            fit.nu,
+            fit.sigma_nu.unwrap(),
+            fit.correlation.unwrap(),
+            fit.evaluations
         );
-        assert!(((fit.e - e) / e).abs() < 0.01, "{}", fit.e);
-        assert!(((fit.nu - nu) / nu).abs() < 0.01, "{}", fit.nu);
-        assert!(fit.profile_rms < 1e-3);
+        assert!(((fit.e - e) / e).abs() < 0.005, "{}", fit.e);
+        assert!(((fit.nu - nu) / nu).abs() < 0.005, "{}", fit.nu);
+        assert!(fit.profile_rms < 1e-3 && fit.force_rms < 1e-4);
+        assert!(fit.at_noise_level(&m));
     }
 
     #[test]
-    fn forces_alone_trade_e_against_nu() {
-        let m = synthetic(0.05, 0.4);
-        // Any ν fits the forces exactly with its own E: the residual does not tell them apart.
-        for nu in [0.3, 0.45] {
-            let r = response(nu, 10.0).unwrap();
-            let (e, _, rms) = fit_e(r.force_per_e_mm, &m);
-            assert!(rms < 1e-9 * m.force[10], "{rms}");
-            assert!((e - 0.05).abs() > 1e-4, "E should move with ν: {e}");
-        }
-    }
-
-    #[test]
-    fn forces_alone_give_e_at_a_given_nu() {
-        let mut m = synthetic(0.05, 0.4);
+    fn forces_alone_give_e_at_a_given_nu_and_trade_e_against_nu() {
+        let model = Model::new("linear", "tet4");
+        let mut m = synthetic(&model, 0.05, 0.4);
         m.profiles = Default::default();
-        let e = identify(&m, None).unwrap_err().to_string();
-        assert!(e.contains("give ν"), "{e}");
-        let fit = identify(&m, Some(0.4)).unwrap();
+        let e = identify(&m, &model, None, &|_, _| {}).unwrap_err();
+        assert!(e.to_string().contains("give ν (--nu)"), "{e}");
+        let fit = identify(&m, &model, Some(0.4), &|_, _| {}).unwrap();
         assert!(((fit.e - 0.05) / 0.05).abs() < 1e-9, "{}", fit.e);
-        assert!(identify(&m, Some(0.5)).is_err());
-    }
-
-    #[test]
-    fn missing_files_name_the_path() {
-        let e = Measurements::load(Path::new("/nonexistent"), "A")
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("/nonexistent/force_displacement_A.csv"), "{e}");
+        assert!(fit.sigma_nu.is_none());
+        // Another ν fits the (linear) forces exactly with another E.
+        let other = identify(&m, &model, Some(0.3), &|_, _| {}).unwrap();
+        assert!(other.force_rms < 1e-9 * m.force[5], "{}", other.force_rms);
+        assert!((other.e - 0.05).abs() > 1e-4, "E should move with ν");
+        assert!(identify(&m, &model, Some(0.5), &|_, _| {}).is_err());
     }
 }

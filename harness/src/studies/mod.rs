@@ -1,14 +1,18 @@
 //! The studies: what the harness computes about the scenes, each over the one simulation
 //! loop ([`crate::sweep::simulate()`]) where it runs a scene over time.
 //!
+//! - [`measurements`]: a cut-block measurement set and the specimen it was taken on;
 //! - [`identify`]: E and ν of the cut block from force–displacement data and laser profiles;
 //! - [`profiles`]: scanner profiles against the model, in the lab frame and aligned;
 //! - [`speed_error`]: run time against error for the abdomen, and stability on hard cases;
+//! - [`cut_speed_error`]: run time against error for the cut block's models;
 //! - [`verification`]: the FE core and both scenes against analytical and seed results;
 //! - [`fields`]: the displacement fields the reports draw and write for ParaView.
 
+pub mod cut_speed_error;
 pub mod fields;
 pub mod identify;
+pub mod measurements;
 pub mod profiles;
 pub mod speed_error;
 pub mod verification;

@@ -43,6 +43,11 @@ fn height(model: &[f64], y: f64) -> Option<f64> {
     (a.is_finite() && b.is_finite()).then_some(a + w * (b - a))
 }
 
+/// The model's height at each data point's y (None where it has no surface there).
+pub fn heights(model: &[f64], data: &[(f64, f64)]) -> Vec<Option<f64>> {
+    data.iter().map(|&(y, _)| height(model, y)).collect()
+}
+
 /// Residuals data − model for the data shifted by (dy, dz), where the model has a surface.
 fn residuals(model: &[f64], data: &[(f64, f64)], dy: f64, dz: f64) -> Vec<f64> {
     data.iter()

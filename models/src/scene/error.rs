@@ -86,6 +86,14 @@ pub enum SceneError {
         node: usize,
         at: [f64; 3],
     },
+    /// Cut flanks that slid or turned past each other further than the contact model's
+    /// small-sliding range, so they pass through each other.
+    #[error(
+        "flank node {node} lies {depth:.4} mm behind the opposite flank, more than the {limit} \
+         mm the contact accepts: the flanks slid or turned further than its small-sliding \
+         range covers; lower press_force or the closing pull"
+    )]
+    Slid { node: usize, depth: f64, limit: f64 },
     #[error(transparent)]
     Model(#[from] ModelError),
 }
@@ -99,8 +107,8 @@ pub enum ErrorKind {
     Usage,
     /// Parameters or files that describe no valid model.
     Configuration,
-    /// The model failed while running: unstable, not converged, separated, singular,
-    /// diverged.
+    /// The model failed while running: unstable, not converged, separated, slid flanks,
+    /// singular, diverged.
     Runtime,
 }
 
@@ -110,9 +118,10 @@ impl SceneError {
         use ModelError as M;
         match self {
             Self::Config(_) => ErrorKind::Configuration,
-            Self::Unstable { .. } | Self::NotConverged { .. } | Self::Separated { .. } => {
-                ErrorKind::Runtime
-            }
+            Self::Unstable { .. }
+            | Self::NotConverged { .. }
+            | Self::Separated { .. }
+            | Self::Slid { .. } => ErrorKind::Runtime,
             Self::Model(
                 M::Singular { .. }
                 | M::Diverged { .. }

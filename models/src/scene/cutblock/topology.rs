@@ -7,7 +7,7 @@
 //! finite-strain law goes from the last equilibrium to the new load with Newton's method
 //! ([`crate::solve::newton`]) in increments of at most `max_increment` of pull.
 
-use super::contact::{FlankContact, PENALTY_FACTOR};
+use super::contact::{FlankContact, Spring, PENALTY_FACTOR, SLIDING_LIMIT};
 use super::geometry::{Geometry, Strategy, Support};
 use super::profiles::TopSurface;
 use super::Work;
@@ -23,6 +23,9 @@ use crate::solve::{Factorization, Statics};
 
 /// Largest number of solves per step while the contact set changes.
 const CONTACT_ITERATIONS: usize = 25;
+
+/// The most equal parts a load change is split into when its flanks end through each other.
+const CONTACT_PARTS: usize = 8;
 
 /// How the equilibrium is found.
 #[derive(Debug)]
@@ -324,7 +327,10 @@ impl Topology {
     /// Solves for the pull (mm) and the press force (N) at the scalpel position. With flank
     /// contact: solve, search the flanks, and while the set of held nodes changes, solve
     /// again with the new springs (at most `CONTACT_ITERATIONS` times; a set that comes
-    /// back is a cycle and an error). On error the last equilibrium stays.
+    /// back is a cycle and an error). A load change that leaves the flanks through each
+    /// other (beyond the contact's small-sliding range) is retried from the last
+    /// equilibrium in 2, 4, … up to `CONTACT_PARTS` equal parts, the springs updated after
+    /// each. On error the last equilibrium stays.
     pub fn solve(
         &mut self,
         g: &Geometry,
@@ -334,15 +340,37 @@ impl Topology {
     ) -> Result<(), SceneError> {
         self.saved.copy_from_slice(&self.u);
         let (load, active) = (self.load, self.contact.as_ref().map(|c| c.active.clone()));
-        let result = self.settle(g, pull, press, scalpel_x);
+        let mut result = self.settle(g, pull, press, scalpel_x);
+        let mut parts = 2;
+        while matches!(result, Err(SceneError::Slid { .. })) && parts <= CONTACT_PARTS {
+            self.back(g, load, &active, scalpel_x)?;
+            result = (1..=parts).try_for_each(|k| {
+                let s = k as f64 / parts as f64;
+                let at = |from: f64, to: f64| from + s * (to - from);
+                self.settle(g, at(load.0, pull), at(load.1, press), scalpel_x)
+            });
+            parts *= 2;
+        }
         if result.is_err() {
-            self.u.copy_from_slice(&self.saved);
-            if let (Some(c), Some(active)) = (&mut self.contact, active) {
-                c.active = active;
-            }
-            self.restart(g, load, scalpel_x)?;
+            self.back(g, load, &active, scalpel_x)?;
         }
         result
+    }
+
+    /// Back to the state saved at the start of [`Self::solve`]: displacements, springs,
+    /// loads and the solver.
+    fn back(
+        &mut self,
+        g: &Geometry,
+        load: (f64, f64),
+        active: &Option<Vec<Spring>>,
+        scalpel_x: f64,
+    ) -> Result<(), SceneError> {
+        self.u.copy_from_slice(&self.saved);
+        if let (Some(c), Some(active)) = (&mut self.contact, active) {
+            c.active = active.clone();
+        }
+        self.restart(g, load, scalpel_x)
     }
 
     /// After a failed solve: the loads, the springs and the solver's state back to `u`
@@ -391,7 +419,15 @@ impl Topology {
             };
             let springs = c.detect(self.solid.nodes(), &self.u);
             if c.same_as_active(&springs) {
-                return Ok(());
+                let limit = SLIDING_LIMIT * self.layer;
+                return match c.deepest {
+                    Some(node) if c.penetration > limit => Err(SceneError::Slid {
+                        node,
+                        depth: c.penetration,
+                        limit,
+                    }),
+                    _ => Ok(()),
+                };
             }
             let held: Vec<usize> = springs.iter().map(|s| s.node).collect();
             if seen.contains(&held) {

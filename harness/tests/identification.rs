@@ -1,0 +1,57 @@
+//! Identification on the shipped measurement sets A and C (issue #11): the model the data
+//! were generated with (neo-Hookean, tet10) fits both to the noise level with ν inside its
+//! search interval; the linear model does not, and its fit says so.
+
+use harness::report::identification::shipped_data;
+use harness::studies::identify::{identify, Fit, Model, FORCE_LEVEL, PROFILE_LEVEL};
+use harness::studies::measurements::Measurements;
+
+fn fit(set: &str, material: &str, element: &str) -> (Measurements, Fit) {
+    let m = Measurements::load(&shipped_data(), set).unwrap();
+    let fit = identify(&m, &Model::new(material, element), None, &|_, _| {}).unwrap();
+    (m, fit)
+}
+
+fn assert_at_noise_level(set: &str) {
+    let (m, f) = fit(set, "neo-hookean", "tet10");
+    let noise = m.specimen.noise;
+    let (force, profile) = (f.force_rms / noise.force, f.profile_rms / noise.profile);
+    assert!(force <= FORCE_LEVEL, "set {set}: force RMS {force:.3} σ_F");
+    assert!(
+        profile <= PROFILE_LEVEL,
+        "set {set}: profile RMS {profile:.3} σ_P"
+    );
+    assert!(!f.at_bound, "set {set}: ν = {} at the search bound", f.nu);
+    // ν is determined by the profiles: a 95 % interval narrower than ±0.01.
+    let sigma_nu = f.sigma_nu.expect("ν was fitted");
+    assert!(1.96 * sigma_nu < 0.01, "set {set}: σ_ν = {sigma_nu}");
+    assert!(
+        1.96 * f.sigma_e < 0.01 * f.e,
+        "set {set}: σ_E = {}",
+        f.sigma_e
+    );
+    assert!(f.at_noise_level(&m));
+}
+
+#[test]
+fn neo_hookean_tet10_fits_set_a_to_the_noise_level() {
+    assert_at_noise_level("A");
+}
+
+#[test]
+fn neo_hookean_tet10_fits_set_c_to_the_noise_level() {
+    assert_at_noise_level("C");
+}
+
+#[test]
+fn the_linear_model_misses_set_a_and_the_fit_says_so() {
+    let (m, f) = fit("A", "linear", "tet4");
+    assert!(!f.at_noise_level(&m));
+    let profile = f.profile_rms / m.specimen.noise.profile;
+    assert!(profile > 10.0, "profile RMS {profile:.2} σ_P");
+    assert!(
+        f.response.warnings.iter().any(|w| w.contains("strain")),
+        "no strain warning: {:?}",
+        f.response.warnings
+    );
+}
