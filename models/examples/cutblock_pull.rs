@@ -38,7 +38,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     s.do_step(1.0, 1.0)?;
     let pull = start.elapsed();
     let w = s.work();
-    println!("{material} {element}, cells ×{refine}: set-up and cut {setup:.2?}, pull 0 → 10 mm {pull:.2?}");
+    let dofs = s.field().map_or(0, |(solid, _)| solid.n_dofs());
+    println!("{material} {element}, cells ×{refine}, {dofs} dofs: set-up and cut {setup:.2?}, pull 0 → 10 mm {pull:.2?}");
     println!("reaction at 10 mm: {:.4} N", s.get("reaction_force")?);
     let increments = w.increments - before.increments;
     let iterations = w.iterations - before.iterations;

@@ -10,24 +10,13 @@ use models::solve::{statics::reactions, Factorization, Statics};
 use models::stress;
 
 mod common;
-use common::{boundary_nodes, irregular_block, jitter};
+use common::{boundary_nodes, irregular_block, jittered};
 
 /// A rectangle mesh with interior nodes moved by up to 30 % of the cell size.
 fn irregular_plane() -> (Mesh2d, Vec<usize>) {
     let rect = generate::rectangle(4.0, 3.0, 8, 6).unwrap();
     let boundary = boundary_nodes(rect.node_sets(), &["left", "right", "top", "bottom"]);
-    let nodes = rect
-        .nodes()
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            if boundary.binary_search(&i).is_ok() {
-                *p
-            } else {
-                [p[0] + 0.15 * jitter(i, 1), p[1] + 0.15 * jitter(i, 2)]
-            }
-        })
-        .collect();
+    let nodes = jittered(rect.nodes(), &boundary, 0.15);
     let mesh = Mesh2d::new(
         nodes,
         rect.triangles().to_vec(),

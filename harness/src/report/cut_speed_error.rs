@@ -87,25 +87,18 @@ fn table(report: &mut Report, cases: &[Case], reference: &Answer) {
 /// Combined error against run time, one colour per law and element (×1 and ×2 joined),
 /// with the Pareto front.
 fn pareto_plot(report: &mut Report, cases: &[Case], reference: &Answer) -> Result<()> {
-    let mut curves: Vec<Curve> = Vec::new();
-    let mut points = Vec::new();
-    for c in cases {
-        let Ok(a) = &c.outcome else { continue };
-        let error = errors(a, reference).combined();
-        if error == 0.0 {
-            continue; // the reference itself: no place on a log scale
-        }
-        let point = (a.seconds, error);
-        points.push(point);
-        let label = format!("{} {}", c.model.material, c.model.element);
-        match curves.iter_mut().find(|k| k.label == label) {
-            Some(k) => k.points.push(point),
-            None => {
-                let colour = curves.len();
-                curves.push(Curve::new(&label, vec![point], Mark::Dots).colour(colour));
-            }
-        }
-    }
+    let labelled: Vec<(String, (f64, f64))> = cases
+        .iter()
+        .filter_map(|c| {
+            let a = c.outcome.as_ref().ok()?;
+            let error = errors(a, reference).combined();
+            // The reference itself has no place on a log scale.
+            let label = format!("{} {}", c.model.material, c.model.element);
+            (error > 0.0).then_some((label, (a.seconds, error)))
+        })
+        .collect();
+    let points: Vec<(f64, f64)> = labelled.iter().map(|(_, p)| *p).collect();
+    let mut curves = plot::grouped(labelled);
     let colour = curves.len();
     curves.push(Curve::new("Pareto front", pareto(&points), Mark::Line).colour(colour));
     plot::chart(

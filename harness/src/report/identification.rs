@@ -119,9 +119,10 @@ fn verdict(d: &Done) -> &'static str {
 
 fn summary(report: &mut Report, done: &[Done]) {
     report.text(&format!(
-        "E and ν with 95 % intervals (±1.96 σ from the Jacobian and the stated noise); the \
-         residuals against the noise: a model that matches the experiment gives force RMS / \
-         σ_F ≤ {FORCE_LEVEL} and profile RMS / σ_P ≤ {PROFILE_LEVEL}."
+        "E and ν with 95 % intervals (±1.96 σ from the Jacobian and the stated noise; none \
+         where ν ran to its bound) and their correlation; the residuals against the noise: a \
+         model that matches the experiment gives force RMS / σ_F ≤ {FORCE_LEVEL} and profile \
+         RMS / σ_P ≤ {PROFILE_LEVEL}."
     ));
     let rows: Vec<Vec<String>> = done
         .iter()
@@ -131,10 +132,19 @@ fn summary(report: &mut Report, done: &[Done]) {
             vec![
                 d.job.set.clone(),
                 f.model.to_string(),
-                format!("{:.5} ± {:.5}", f.e, 1.96 * f.sigma_e),
-                f.sigma_nu.map_or(format!("{:.4} (given)", f.nu), |s| {
-                    format!("{:.4} ± {:.4}", f.nu, 1.96 * s)
-                }),
+                if f.at_bound {
+                    format!("{:.5}", f.e)
+                } else {
+                    format!("{:.5} ± {:.5}", f.e, 1.96 * f.sigma_e)
+                },
+                match f.sigma_nu {
+                    None => format!("{:.4} (given)", f.nu),
+                    Some(_) if f.at_bound => format!("{:.4} (bound)", f.nu),
+                    Some(s) => format!("{:.4} ± {:.4}", f.nu, 1.96 * s),
+                },
+                f.correlation
+                    .filter(|_| !f.at_bound)
+                    .map_or("–".into(), |c| format!("{c:+.2}")),
                 format!("{:.2}", f.force_rms / noise.force),
                 format!("{:.2}", f.profile_rms / noise.profile),
                 verdict(d).into(),
@@ -148,6 +158,7 @@ fn summary(report: &mut Report, done: &[Done]) {
             "model",
             "E (MPa)",
             "ν",
+            "corr.",
             "force RMS / σ_F",
             "profile RMS / σ_P",
             "verdict",
@@ -222,7 +233,7 @@ fn fit_section(report: &mut Report, d: &Done) -> Result<()> {
             NU_RANGE.0, NU_RANGE.1
         ));
     }
-    if let Some(c) = f.correlation {
+    if let Some(c) = f.correlation.filter(|_| !f.at_bound) {
         report.text(&format!(
             "Correlation of E and ν: {c:+.3}. ν comes from the profiles; the forces alone \
              would trade E against ν along F = E · g(ν, d)."

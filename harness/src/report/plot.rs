@@ -45,6 +45,21 @@ pub struct Curve {
     pub colour: usize,
 }
 
+/// Dots grouped into one curve per label, coloured in order of first appearance.
+pub fn grouped(points: impl IntoIterator<Item = (String, (f64, f64))>) -> Vec<Curve> {
+    let mut curves: Vec<Curve> = Vec::new();
+    for (label, point) in points {
+        match curves.iter_mut().find(|k| k.label == label) {
+            Some(k) => k.points.push(point),
+            None => {
+                let colour = curves.len();
+                curves.push(Curve::new(&label, vec![point], Mark::Dots).colour(colour));
+            }
+        }
+    }
+    curves
+}
+
 impl Curve {
     /// A curve; its colour is set by [`Curve::colour`] or defaults to palette entry 0.
     pub fn new(label: &str, points: Vec<(f64, f64)>, mark: Mark) -> Self {

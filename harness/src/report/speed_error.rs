@@ -64,17 +64,12 @@ fn pareto_plot(
     points: &[(f64, f64)],
     duration: f64,
 ) -> Result<()> {
-    let mut curves: Vec<Curve> = Vec::new();
-    for (c, &point) in cases.iter().zip(points) {
-        let label = format!("{} triangles, {}", c.triangles, c.integrator);
-        match curves.iter_mut().find(|k| k.label == label) {
-            Some(k) => k.points.push(point),
-            None => {
-                let colour = curves.len();
-                curves.push(Curve::new(&label, vec![point], Mark::Dots).colour(colour));
-            }
-        }
-    }
+    let mut curves = plot::grouped(cases.iter().zip(points).map(|(c, &point)| {
+        (
+            format!("{} triangles, {}", c.triangles, c.integrator),
+            point,
+        )
+    }));
     let colour = curves.len();
     curves.push(Curve::new("Pareto front", pareto(points), Mark::Line).colour(colour));
     plot::chart(

@@ -25,21 +25,26 @@ pub fn boundary_nodes(sets: &NodeSets, names: &[&str]) -> Vec<usize> {
 pub fn irregular_block() -> (Mesh3d, Vec<usize>) {
     let b = generate::block([3.0, 3.0, 3.0], [3, 3, 3]).unwrap();
     let boundary = boundary_nodes(b.node_sets(), &["x0", "x1", "y0", "y1", "z0", "z1"]);
-    let nodes = b
-        .nodes()
+    let nodes = jittered(b.nodes(), &boundary, 0.15);
+    (Mesh3d::new(nodes, b.tets().to_vec()).unwrap(), boundary)
+}
+
+/// `nodes` with every node not in `boundary` (sorted) moved by up to `amplitude` along each
+/// axis, deterministically.
+pub fn jittered<const D: usize>(
+    nodes: &[[f64; D]],
+    boundary: &[usize],
+    amplitude: f64,
+) -> Vec<[f64; D]> {
+    nodes
         .iter()
         .enumerate()
         .map(|(i, p)| {
             if boundary.binary_search(&i).is_ok() {
                 *p
             } else {
-                [
-                    p[0] + 0.15 * jitter(i, 3),
-                    p[1] + 0.15 * jitter(i, 4),
-                    p[2] + 0.15 * jitter(i, 5),
-                ]
+                std::array::from_fn(|d| p[d] + amplitude * jitter(i, d as u64 + 1))
             }
         })
-        .collect();
-    (Mesh3d::new(nodes, b.tets().to_vec()).unwrap(), boundary)
+        .collect()
 }

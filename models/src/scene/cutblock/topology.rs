@@ -11,7 +11,7 @@ use super::contact::{FlankContact, Spring, PENALTY_FACTOR, SLIDING_LIMIT};
 use super::geometry::{Geometry, Strategy, Support};
 use super::profiles::TopSurface;
 use super::Work;
-use crate::assembly::solid::{Solid, Tetrahedron};
+use crate::assembly::solid::{Body, Solid, Tetrahedron};
 use crate::assembly::{loads, mul_add, Assembler};
 use crate::element::Material;
 use crate::error::ModelError;
@@ -89,11 +89,11 @@ impl Equations for Equilibrium<'_> {
         f: &mut [f64],
         mut k: Option<&mut [f64]>,
     ) -> Result<(), ModelError> {
-        f.fill(0.0);
-        if let Some(k) = k.as_deref_mut() {
-            k.fill(0.0);
-        }
-        self.solid.add_internal(self.asm, u, f, k.as_deref_mut())?;
+        let mut body = Body {
+            solid: self.solid,
+            asm: self.asm,
+        };
+        body.internal(u, f, k.as_deref_mut())?;
         if let Some(c) = self.contact {
             c.add_forces(self.penalty, u, f);
             if let Some(k) = k {
