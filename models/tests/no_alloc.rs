@@ -1,6 +1,6 @@
-//! A step of every integrator, a static re-solve, and an abdomen scene's step with all its
-//! outputs read allocate nothing. Verified with a counting global allocator (per thread, so
-//! parallel tests do not interfere).
+//! A step of every integrator, a static re-solve, Newton iterations at finite strain, and an
+//! abdomen scene's step with all its outputs read allocate nothing. Verified with a counting
+//! global allocator (per thread, so parallel tests do not interfere).
 
 use std::alloc::{GlobalAlloc, Layout as AllocLayout, System};
 use std::cell::Cell;
@@ -135,4 +135,60 @@ fn abdomen_step_and_outputs_allocate_nothing() {
         }
     });
     assert_eq!(n, 0, "allocations in 19 steps with outputs");
+}
+
+/// Newton at finite strain (neo-Hookean tet10 block, 20 % stretch in 4 increments, full
+/// Newton so that every iteration reassembles and refactorizes): after a first solve has
+/// sized the report, a solve of the same length allocates nothing.
+#[test]
+fn newton_iterations_allocate_nothing() {
+    use models::assembly::solid::{Body, Solid, Tetrahedron};
+    use models::assembly::Assembler;
+    use models::element::{Elastic, Law, Material};
+    use models::solve::newton::{Newton, Settings};
+
+    let mesh = models::mesh::generate::block([2.0, 3.0, 1.5], [2, 3, 2]).unwrap();
+    let material = Material::new(Law::NeoHookean, Elastic::new("m", 0.05, 0.43).unwrap());
+    let solid = Solid::new(&mesh, Tetrahedron::Tet10, material);
+    let asm = Assembler::new(solid.nodes().len(), 3, &solid.connectivity());
+    let ends: Vec<usize> = (0..solid.nodes().len())
+        .filter(|&n| solid.nodes()[n][1] == 0.0 || solid.nodes()[n][1] == 3.0)
+        .collect();
+    let fixed: Vec<usize> = ends
+        .iter()
+        .flat_map(|n| [3 * n, 3 * n + 1, 3 * n + 2])
+        .collect();
+    let settings = Settings {
+        max_increment: 0.15,
+        reuse_contraction: 0.0,
+        ..Settings::default()
+    };
+    let mut newton = Newton::new(&asm, &fixed, Factorization::Supernodal, settings).unwrap();
+    let (mut u, zero) = (vec![0.0; solid.n_dofs()], vec![0.0; solid.n_dofs()]);
+    let mut prescribed = vec![0.0; solid.n_dofs()];
+    let mut body = Body {
+        solid: &solid,
+        asm: &asm,
+    };
+    let mut pull_to = |newton: &mut Newton, u: &mut Vec<f64>, stretch: f64| {
+        for &n in &ends {
+            prescribed[3 * n + 1] = if solid.nodes()[n][1] == 0.0 {
+                0.0
+            } else {
+                stretch
+            };
+        }
+        newton
+            .solve(&mut body, u, &prescribed, &zero)
+            .unwrap()
+            .iterations
+            .iter()
+            .sum::<usize>()
+    };
+    let first = pull_to(&mut newton, &mut u, 0.6);
+    let mut iterations = 0;
+    let n = allocations_during(|| iterations = pull_to(&mut newton, &mut u, 1.2));
+    println!("{first} then {iterations} iterations; {n} allocations");
+    assert!(iterations >= 8, "{iterations}");
+    assert_eq!(n, 0, "{n} allocations in {iterations} iterations");
 }
