@@ -1,5 +1,5 @@
 //! Where a run happens: the scene linked into the harness ([`InProcess`]), or the packaged
-//! FMU through the `fmi` crate (feature `fmu`, [`super::fmu`]). Both are [`Session`]s that
+//! FMU through the `fmi` crate (feature `fmu`, `sweep::fmu`). Both are [`Session`]s that
 //! the one loop, [`super::simulate()`], drives.
 
 use std::path::Path;
