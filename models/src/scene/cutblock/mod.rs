@@ -12,8 +12,8 @@
 //!
 //! Where the model stops being valid, it says so once per run (see
 //! [`Scene::take_warnings`]): the linear law beyond 5 % principal strain
-//! (`LINEAR_STRAIN_LIMIT` in `variables.rs`), and a cut so close to a node plane's neighbours that
-//! the graded layers beside it differ by more than a factor 4.
+//! (`LINEAR_STRAIN_LIMIT` in `variables.rs`), and a cut so close to a node plane's
+//! neighbours that the graded layers beside it differ by more than a factor 4.
 
 mod contact;
 mod geometry;
