@@ -1,11 +1,16 @@
 //! Fill-reducing ordering by nested dissection (METIS `METIS_NodeND`, vendored by the
-//! `metis-sys` crate) for the supernodal Cholesky factorization of 3D meshes. METIS seeds
-//! its random generator at each call but keeps it in a plain static (GKlib's `random.c`),
-//! so calls from two threads at once would race and give orderings that differ from run to
-//! run; the calls are therefore serialized, which makes every ordering repeatable. Measured on the
-//! cut block (6 × 16 × 14 cubes, one noisy run each): tet4 factor 0.73 M entries and 9.5 ms
-//! against 0.78 M and 14.8 ms with faer's AMD; tet10 14.1 M entries and 0.42–0.53 s against
-//! 15.4 M and 0.65 s.
+//! `metis-sys` crate) for the supernodal Cholesky factorization of 3D meshes. Measured on
+//! the cut block (6 × 16 × 14 cubes, one noisy run each): tet4 factor 0.73 M entries and
+//! 9.5 ms against 0.78 M and 14.8 ms with faer's AMD; tet10 14.1 M entries and 0.42–0.53 s
+//! against 15.4 M and 0.65 s.
+//!
+//! METIS seeds its random generator at each call, so calls from two threads at once would
+//! race and give orderings that differ from run to run; the calls are therefore serialized,
+//! which makes every ordering repeatable within one copy of this library. Limit: `metis-sys`
+//! builds GKlib without `USE_GKRAND`, so the generator is libc's process-wide `rand()`; two
+//! copies of this library in one process (an FMU beside the scene linked into the host, or
+//! the FMI 2 and FMI 3 FMUs together) ordering at the same moment, or a host calling
+//! `rand()` meanwhile, can change an ordering and with it the last bits of a result.
 
 use std::sync::Mutex;
 
