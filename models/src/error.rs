@@ -6,6 +6,13 @@ use thiserror::Error;
 /// Errors raised while building meshes, materials, systems, or while solving them.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum ModelError {
+    /// A named choice (material law, element, integrator) that does not exist.
+    #[error("unknown {what} `{value}`: use {choices}")]
+    UnknownChoice {
+        what: &'static str,
+        value: String,
+        choices: &'static str,
+    },
     /// A scalar parameter is outside its admissible range (or not finite).
     #[error("invalid value {value} for `{name}`: {reason}")]
     InvalidParameter {

@@ -7,7 +7,7 @@ use models::assembly::Assembler;
 use models::element::{Elastic, Law, Material};
 use models::error::ModelError;
 use models::mesh::generate;
-use models::solve::newton::{Newton, Settings};
+use models::solve::newton::{Newton, Report, Settings};
 use models::solve::Factorization;
 
 const SIZE: [f64; 3] = [2.0, 3.0, 1.5];
@@ -90,6 +90,18 @@ fn sliding(solid: &Solid, delta: f64) -> (Vec<usize>, Vec<f64>, Vec<usize>) {
     (fixed, prescribed, y1)
 }
 
+/// Solves the solid from `u` to the prescribed values, with no external loads.
+fn pull<'a>(
+    newton: &'a mut Newton,
+    solid: &Solid,
+    asm: &Assembler,
+    u: &mut [f64],
+    prescribed: &[f64],
+) -> Result<&'a Report, ModelError> {
+    let zero = vec![0.0; solid.n_dofs()];
+    newton.solve(&mut Body { solid, asm }, u, prescribed, &zero)
+}
+
 #[test]
 fn uniaxial_stretch_matches_the_closed_form_for_both_tetrahedra_and_laws() {
     for kind in Tetrahedron::ALL {
@@ -105,18 +117,7 @@ fn uniaxial_stretch_matches_the_closed_form_for_both_tetrahedra_and_laws() {
                 let mut newton =
                     Newton::new(&asm, &fixed, Factorization::Supernodal, settings).unwrap();
                 let mut u = vec![0.0; solid.n_dofs()];
-                let zero = vec![0.0; solid.n_dofs()];
-                newton
-                    .solve(
-                        &mut Body {
-                            solid: &solid,
-                            asm: &asm,
-                        },
-                        &mut u,
-                        &prescribed,
-                        &zero,
-                    )
-                    .unwrap();
+                pull(&mut newton, &solid, &asm, &mut u, &prescribed).unwrap();
                 let force: f64 = pulled
                     .iter()
                     .map(|n| newton.internal_forces()[3 * n + 1])
@@ -152,7 +153,6 @@ fn a_rigid_rotation_is_stress_free_at_finite_strain_only() {
         let mut newton =
             Newton::new(&asm, &fixed, Factorization::Supernodal, Settings::default()).unwrap();
         let mut u = vec![0.0; solid.n_dofs()];
-        let zero = vec![0.0; solid.n_dofs()];
         let mut prescribed = vec![0.0; solid.n_dofs()];
         for step in 1..=10 {
             let angle = f64::from(step) * std::f64::consts::FRAC_PI_2 / 10.0;
@@ -162,17 +162,7 @@ fn a_rigid_rotation_is_stress_free_at_finite_strain_only() {
                 prescribed[3 * n] = c * x - s * y - x;
                 prescribed[3 * n + 1] = s * x + c * y - y;
             }
-            newton
-                .solve(
-                    &mut Body {
-                        solid: &solid,
-                        asm: &asm,
-                    },
-                    &mut u,
-                    &prescribed,
-                    &zero,
-                )
-                .unwrap();
+            pull(&mut newton, &solid, &asm, &mut u, &prescribed).unwrap();
         }
         let largest = newton
             .internal_forces()
@@ -207,17 +197,7 @@ fn newton_converges_quadratically() {
     };
     let mut newton = Newton::new(&asm, &fixed, Factorization::Supernodal, settings).unwrap();
     let mut u = vec![0.0; solid.n_dofs()];
-    let zero = vec![0.0; solid.n_dofs()];
-    let report = newton
-        .solve(
-            &mut Body {
-                solid: &solid,
-                asm: &asm,
-            },
-            &mut u,
-            &prescribed,
-            &zero,
-        )
+    let report = pull(&mut newton, &solid, &asm, &mut u, &prescribed)
         .unwrap()
         .clone();
     // The first three residuals of the increment, all above round-off (1e-15).

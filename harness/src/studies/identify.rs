@@ -268,6 +268,8 @@ pub fn identify(
     fixed_nu: Option<f64>,
     observe: &(dyn Fn(f64, f64) + Sync),
 ) -> Result<Fit> {
+    models::element::Law::parse(&model.material)?;
+    models::assembly::solid::Tetrahedron::parse(&model.element)?;
     let cache = Cache {
         m,
         model,

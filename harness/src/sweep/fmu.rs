@@ -165,6 +165,7 @@ impl FmuBackend {
         Ok(match &self.import {
             Import::Fmi2(import) => Box::new(Fmi2Session {
                 backend: self,
+                vrs: Vec::new(),
                 instance: import
                     .instantiate_cs(&self.identifier, false, true)
                     .map_err(|e| failure("fmi2Instantiate", e))?,
@@ -189,6 +190,9 @@ impl FmuBackend {
 /// One FMI 2 instance.
 struct Fmi2Session<'a> {
     backend: &'a FmuBackend,
+    /// The value references of the array being read (FMI 2 has no arrays), reused from
+    /// step to step.
+    vrs: Vec<u32>,
     instance: fmi::fmi2::instance::InstanceCS,
 }
 
@@ -232,9 +236,10 @@ impl Session for Fmi2Session<'_> {
     }
 
     fn get(&mut self, r: Reference, out: &mut [f64]) -> Result<()> {
-        let vrs: Vec<u32> = (r.vr..r.vr + r.len as u32).collect();
+        self.vrs.clear();
+        self.vrs.extend(r.vr..r.vr + r.len as u32);
         self.instance
-            .get_real(&vrs, out)
+            .get_real(&self.vrs, out)
             .map_err(|e| failure("fmi2GetReal", e))?;
         Ok(())
     }

@@ -34,10 +34,10 @@ impl Tetrahedron {
         Self::ALL
             .into_iter()
             .find(|t| t.name() == name)
-            .ok_or_else(|| ModelError::InvalidParameter {
-                name: format!("element `{name}`"),
-                value: f64::NAN,
-                reason: "unknown; use tet4 or tet10",
+            .ok_or_else(|| ModelError::UnknownChoice {
+                what: "element",
+                value: name.to_string(),
+                choices: "tet4 or tet10",
             })
     }
 }

@@ -110,10 +110,10 @@ impl Law {
         Self::ALL
             .into_iter()
             .find(|l| l.name() == name)
-            .ok_or_else(|| ModelError::InvalidParameter {
-                name: format!("material `{name}`"),
-                value: f64::NAN,
-                reason: "unknown; use linear, neo-hookean or stvk",
+            .ok_or_else(|| ModelError::UnknownChoice {
+                what: "material",
+                value: name.to_string(),
+                choices: "linear, neo-hookean or stvk",
             })
     }
 

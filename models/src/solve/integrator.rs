@@ -72,10 +72,10 @@ impl IntegratorKind {
         Self::ALL
             .into_iter()
             .find(|k| k.name() == name)
-            .ok_or_else(|| ModelError::InvalidParameter {
-                name: format!("integrator `{name}`"),
-                value: f64::NAN,
-                reason: "unknown; use houbolt, newmark, central_difference or rk4",
+            .ok_or_else(|| ModelError::UnknownChoice {
+                what: "integrator",
+                value: name.to_string(),
+                choices: "houbolt, newmark, central_difference or rk4",
             })
     }
 
