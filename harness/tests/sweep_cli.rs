@@ -189,3 +189,38 @@ fn invalid_experiments_fail_before_any_work_naming_the_key() {
         assert!(!out.exists(), "nothing is written for an invalid file");
     }
 }
+
+/// `model_order` in an experiment file: the same small sweep in modal order gives the
+/// full-order peaks within 1 %.
+#[test]
+fn a_modal_sweep_gives_the_full_order_peaks() {
+    use harness::sweep::experiment::Experiment;
+    use harness::sweep::runner::{self, Outcome};
+
+    let tmp = tempfile::tempdir().unwrap();
+    let peaks = |order: &str| {
+        let text = format!(
+            "name = \"orders\"\nscene = \"abdomen\"\nstop_time = 1.0\nstep = 0.01\njobs = 2\n\
+             record = [\"floor_stress_max\", \"apex_uy\"]\n\
+             [parameters]\ntarget_triangles = 800\nmodel_order = \"{order}\"\n\
+             [[sweep]]\ndesign = \"list\"\nvalues = {{ configuration = [\"narrow\", \"wide\"] }}\n"
+        );
+        let e = Experiment::parse(&text, tmp.path()).unwrap();
+        let s = runner::run(&e, &tmp.path().join(order)).unwrap();
+        s.results
+            .iter()
+            .flat_map(|r| match &r.outcome {
+                Outcome::Finished { peak, .. } => peak.clone(),
+                Outcome::Failed(e) => panic!("{order}: {e}"),
+            })
+            .collect::<Vec<f64>>()
+    };
+    let (full, modal) = (peaks("full"), peaks("modal"));
+    assert_eq!(full.len(), 4);
+    for (f, m) in full.iter().zip(&modal) {
+        assert!(
+            (f - m).abs() <= 0.01 * f.abs(),
+            "full {full:?} modal {modal:?}"
+        );
+    }
+}

@@ -1,32 +1,46 @@
 //! Abdomen scene benchmarks on the default configuration (≈ 6,000 triangles, 188 line
-//! elements, Houbolt, dt = 1 ms).
+//! elements, Houbolt, dt = 1 ms), full order and modal (80 load-dependent Ritz vectors).
 //!
 //! Run: `cargo bench -p models --bench abdomen`.
 
 use divan::Bencher;
 use models::scene::abdomen::Abdomen;
-use models::scene::Scene;
+use models::scene::{Causality, Scene};
 
 fn main() {
     divan::main();
 }
 
-fn initialized() -> Abdomen {
+const ORDERS: [&str; 2] = ["full", "modal"];
+
+fn initialized(order: &str) -> Abdomen {
     let mut s = Abdomen::new();
+    s.set_str("model_order", order).unwrap();
     s.initialize(0.0).unwrap();
     s
 }
 
-/// Configuration → outline → mesh → assembly → symbolic + numeric factorization.
-#[divan::bench(sample_count = 30)]
-fn setup(bencher: Bencher) {
-    bencher.bench(initialized);
+/// Value references of the outputs, without the cavity-wide ones if not `cavity`.
+fn outputs(s: &Abdomen, cavity: bool) -> Vec<u32> {
+    s.variables()
+        .iter()
+        .filter(|v| v.causality == Causality::Output)
+        .filter(|v| cavity || !v.name.starts_with("cavity_"))
+        .map(|v| v.vr)
+        .collect()
+}
+
+/// Configuration → outline → mesh → assembly → factorization (and for modal the basis, the
+/// reduced system and the output rows).
+#[divan::bench(args = ORDERS, sample_count = 20)]
+fn setup(bencher: Bencher, order: &str) {
+    bencher.bench(|| initialized(order));
 }
 
 /// One Houbolt step (no outputs read).
-#[divan::bench]
-fn step(bencher: Bencher) {
-    let mut s = initialized();
+#[divan::bench(args = ORDERS)]
+fn step(bencher: Bencher, order: &str) {
+    let mut s = initialized(order);
     let mut t = 0.0;
     bencher.bench_local(|| {
         s.do_step(t, 1e-3).unwrap();
@@ -34,16 +48,13 @@ fn step(bencher: Bencher) {
     });
 }
 
-/// One Houbolt step and every scalar output read.
-#[divan::bench]
-fn step_with_outputs(bencher: Bencher) {
-    let mut s = initialized();
-    let vrs: Vec<u32> = s
-        .variables()
-        .iter()
-        .filter(|v| v.causality == models::scene::Causality::Output)
-        .map(|v| v.vr)
-        .collect();
+/// One step and the outputs read: `floor` = all but the two cavity-wide von Mises
+/// statistics (floor stresses, triangles along the floor, point displacements), `all`
+/// = every output.
+#[divan::bench(args = ORDERS, consts = [false, true])]
+fn step_with_outputs<const CAVITY: bool>(bencher: Bencher, order: &str) {
+    let mut s = initialized(order);
+    let vrs = outputs(&s, CAVITY);
     let mut t = 0.0;
     let mut x = [0.0];
     bencher.bench_local(|| {
@@ -57,10 +68,10 @@ fn step_with_outputs(bencher: Bencher) {
 
 /// A sweep case: set-up plus 1 s of simulated time at dt = 1 ms, peak floor stress read
 /// every 10 ms.
-#[divan::bench(sample_count = 10)]
-fn sweep_case_one_second(bencher: Bencher) {
+#[divan::bench(args = ORDERS, sample_count = 10)]
+fn sweep_case_one_second(bencher: Bencher, order: &str) {
     bencher.bench(|| {
-        let mut s = initialized();
+        let mut s = initialized(order);
         let vr = s.lookup("floor_stress_max").unwrap();
         let mut peak = f64::NEG_INFINITY;
         for i in 0..1000 {

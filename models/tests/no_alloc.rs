@@ -115,26 +115,30 @@ fn static_resolve_allocates_nothing() {
 
 #[test]
 fn abdomen_step_and_outputs_allocate_nothing() {
-    let mut s = Abdomen::new();
-    s.set("target_triangles", 500.0).unwrap();
-    s.initialize(0.0).unwrap();
-    let outputs: Vec<u32> = s
-        .variables()
-        .iter()
-        .filter(|v| v.causality == Causality::Output)
-        .map(|v| v.vr)
-        .collect();
-    let mut x = [0.0];
-    s.do_step(0.0, 1e-3).unwrap();
-    let n = allocations_during(|| {
-        for k in 1..20 {
-            s.do_step(f64::from(k) * 1e-3, 1e-3).unwrap();
-            for &vr in &outputs {
-                s.get_real(vr, &mut x).unwrap();
+    for order in ["full", "modal"] {
+        let mut s = Abdomen::new();
+        s.set("target_triangles", 500.0).unwrap();
+        s.set_str("model_order", order).unwrap();
+        s.set("modes", 20.0).unwrap();
+        s.initialize(0.0).unwrap();
+        let outputs: Vec<u32> = s
+            .variables()
+            .iter()
+            .filter(|v| v.causality == Causality::Output)
+            .map(|v| v.vr)
+            .collect();
+        let mut x = [0.0];
+        s.do_step(0.0, 1e-3).unwrap();
+        let n = allocations_during(|| {
+            for k in 1..20 {
+                s.do_step(f64::from(k) * 1e-3, 1e-3).unwrap();
+                for &vr in &outputs {
+                    s.get_real(vr, &mut x).unwrap();
+                }
             }
-        }
-    });
-    assert_eq!(n, 0, "allocations in 19 steps with outputs");
+        });
+        assert_eq!(n, 0, "{order}: allocations in 19 steps with outputs");
+    }
 }
 
 /// Newton at finite strain (neo-Hookean tet10 block, 20 % stretch in 4 increments, full

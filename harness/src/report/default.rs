@@ -5,15 +5,18 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 
 use super::identification;
-use super::{cut_speed_error, fields, speed_error, sweep, verification, Report, Section};
+use super::{
+    cut_speed_error, fields, model_order, speed_error, sweep, verification, Report, Section,
+};
 
 /// The default report's sections, in order.
-pub const SECTIONS: [Section; 7] = [
+pub const SECTIONS: [Section; 8] = [
     verification::section,
     identification::shipped,
     speed_error::section,
     cut_speed_error::section,
     |r| sweep::shipped(r, "pelvis_sweep", &["configuration", "anatomy.outlet"]),
+    model_order::section,
     |r| sweep::shipped(r, "cutblock_sweep", &["cut_depth"]),
     fields::section,
 ];

@@ -15,7 +15,7 @@ pub fn section(report: &mut Report) -> Result<()> {
 /// The abdomen under the default static press: stress map with arrows, and its VTU file.
 fn abdomen(report: &mut Report) -> Result<()> {
     let press = 0.8;
-    let (a, u) = abdomen_pressed(press)?;
+    let (mut a, u) = abdomen_pressed(press)?;
     let (mesh, props, _) = a.field().context("the abdomen is initialized")?;
     let von_mises: Vec<f64> = stress::triangle_stresses(mesh, props, &u)
         .iter()

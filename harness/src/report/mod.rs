@@ -16,6 +16,7 @@ pub mod default;
 pub mod fields;
 pub mod identification;
 pub mod markdown;
+pub mod model_order;
 pub mod plot;
 pub mod series;
 pub mod speed_error;

@@ -1,10 +1,13 @@
-//! Linear solvers: sparse Cholesky, the static solve, and the time integrators behind the
+//! Linear solvers: sparse Cholesky, the static solve, eigenpairs by shift-invert Lanczos and
+//! modal reduction ([`lanczos`], [`modal`]), and the time integrators behind the
 //! [`Integrator`] trait (one file each: houbolt, newmark, central_difference, rk4).
 
 pub mod central_difference;
 pub mod cholesky;
 pub mod houbolt;
 pub mod integrator;
+pub mod lanczos;
+pub mod modal;
 pub mod newmark;
 pub mod newton;
 pub mod ordering;
@@ -17,6 +20,7 @@ pub use central_difference::CentralDifference;
 pub use cholesky::{Cholesky, Factorization};
 pub use houbolt::Houbolt;
 pub use integrator::{Integrator, IntegratorKind, Load, State};
+pub use modal::{ModalBasis, Reduction};
 pub use newmark::Newmark;
 pub use newton::Newton;
 pub use rk4::Rk4;

@@ -3,9 +3,10 @@
 //! lumped mass used by the explicit schemes. Supports are homogeneous (u = 0) in dynamics.
 
 use faer::sparse::SparseColMatRef;
+use faer::MatRef;
 
 use super::cholesky::{Cholesky, Factorization};
-use crate::assembly::{mul_add, Dirichlet};
+use crate::assembly::{mul_add, Assembler, Dirichlet};
 use crate::error::{non_negative, ModelError};
 
 /// Rayleigh damping C = α M + β K (α in 1/s, β in s).
@@ -83,6 +84,50 @@ impl Structure {
         };
         s.bc.combine(&[(1.0, m_full)], &mut s.m);
         s.set_stiffness(k_full);
+        Ok(s)
+    }
+
+    /// A structure of small r × r matrices given densely (a reduced model,
+    /// [`super::ModalBasis::reduce`]): every equation free, the pattern holding the diagonal
+    /// and every entry that is non-zero in K, M or C, the lumped mass M's diagonal, C kept as
+    /// given.
+    pub fn dense(
+        k: MatRef<'_, f64>,
+        m: MatRef<'_, f64>,
+        c: MatRef<'_, f64>,
+    ) -> Result<Self, ModelError> {
+        let r = k.nrows();
+        let mut elements: Vec<Vec<usize>> = (0..r).map(|i| vec![i]).collect();
+        for j in 0..r {
+            for i in 0..j {
+                if [k, m, c].iter().any(|a| a[(i, j)] != 0.0) {
+                    elements.push(vec![i, j]);
+                }
+            }
+        }
+        let asm = Assembler::new(r, 1, &elements);
+        let values = |a: MatRef<'_, f64>| -> Vec<f64> {
+            let p = asm.symbolic();
+            (0..r)
+                .flat_map(|j| {
+                    p.row_idx()[p.col_ptr()[j]..p.col_ptr()[j + 1]]
+                        .iter()
+                        .map(move |&i| a[(i, j)])
+                })
+                .collect()
+        };
+        let lumped: Vec<f64> = (0..r).map(|i| m[(i, i)]).collect();
+        let bc = Dirichlet::new(&asm, &[])?;
+        let (kv, mv, cv) = (values(k), values(m), values(c));
+        let mut s = Self::new(
+            bc,
+            &kv,
+            &mv,
+            &lumped,
+            Damping::NONE,
+            Factorization::Simplicial,
+        )?;
+        s.set_damping_matrix(&cv);
         Ok(s)
     }
 

@@ -32,8 +32,8 @@ use config::{PelvisConfig, ANATOMY};
 use mesher::Meshed;
 use model::{properties, Model};
 use variables::{
-    table, FIRST_OUTPUT, INTEGRATOR, MAX_STEP, MEMORY_LIMIT, PRESS_AMPLITUDE, PRESS_FORCE,
-    PRESS_FREQUENCY, TISSUE_BASE, WALL_SUPPORT,
+    table, FIRST_OUTPUT, INTEGRATOR, MAX_STEP, MEMORY_LIMIT, MODEL_ORDER, PRESS_AMPLITUDE,
+    PRESS_FORCE, PRESS_FREQUENCY, TISSUE_BASE, WALL_SUPPORT,
 };
 
 use super::{
@@ -43,7 +43,7 @@ use super::{
 use crate::assembly::plane::PlaneProperties;
 use crate::budget;
 use crate::mesh::Mesh2d;
-use crate::solve::IntegratorKind;
+use crate::solve::{IntegratorKind, ModalBasis};
 
 /// Most substeps one communication step may take: a step that would need more is refused
 /// (it names `max_step` and h) instead of running for hours.
@@ -55,7 +55,8 @@ pub struct Abdomen {
     values: Values,
     resources: PathBuf,
     model: Option<Model>,
-    /// The outputs after the last step, once requested.
+    /// The outputs after the last step, once requested; the cavity-wide ones are NaN
+    /// until one of them is requested.
     outputs: Option<[f64; outputs::COUNT]>,
     stiffness_changed: bool,
     time: f64,
@@ -110,11 +111,18 @@ impl Abdomen {
         self.model.as_ref().map(|m| &m.meshed)
     }
 
-    /// The mesh, the properties and the current nodal displacements (all dofs).
-    pub fn field(&self) -> Option<(&Mesh2d, &PlaneProperties, &[f64])> {
-        self.model
-            .as_ref()
-            .map(|m| (&m.meshed.mesh, &m.props, m.u_full.as_slice()))
+    /// The mesh, the properties and the current nodal displacements (all dofs; a modal
+    /// model expands its coordinates here).
+    pub fn field(&mut self) -> Option<(&Mesh2d, &PlaneProperties, &[f64])> {
+        let m = self.model.as_mut()?;
+        m.expand();
+        Some((&m.meshed.mesh, &m.props, m.u_full()))
+    }
+
+    /// The reduction basis of `model_order = "modal"` (its modes, static corrections and
+    /// construction time), after initialization.
+    pub fn modal_basis(&self) -> Option<&ModalBasis> {
+        self.model.as_ref()?.modal.as_ref().map(|r| &r.basis)
     }
 
     /// Current simulation time (s).
@@ -132,10 +140,14 @@ impl Abdomen {
     /// dofs, e.g. one from [`Abdomen::static_displacement`].
     pub fn evaluate(&self, u_full: &[f64], press: f64) -> Result<Vec<f64>, SceneError> {
         let m = self.built("evaluate")?;
-        let outputs = m
-            .outputs
-            .compute(&m.meshed.mesh, &m.props, &m.stresses, u_full, press);
-        Ok(outputs.to_vec())
+        let field = outputs::Field {
+            plan: &m.outputs,
+            mesh: &m.meshed.mesh,
+            props: &m.props,
+            stresses: &m.stresses,
+            u: u_full,
+        };
+        Ok(m.outputs.compute(&field, Some(&field), press).to_vec())
     }
 
     /// The pressing force as the inputs now give it.
@@ -151,22 +163,8 @@ impl Abdomen {
     /// force there.
     fn started(&self, start_time: f64) -> Result<Model, SceneError> {
         let mut model = Model::build(&self.values, &self.resources)?;
-        let dt = self.values.real(MAX_STEP);
-        model.integrator.prepare(&model.structure, dt)?;
-        let n = model.structure.n();
         let press = self.pressing();
-        let unit = &model.unit_load;
-        let mut load = |t: f64, f: &mut [f64]| {
-            let force = press.at(t);
-            f.iter_mut().zip(unit).for_each(|(x, u)| *x = force * u);
-        };
-        model.integrator.start(
-            &model.structure,
-            start_time,
-            &vec![0.0; n],
-            &vec![0.0; n],
-            &mut load,
-        )?;
+        model.start(start_time, self.values.real(MAX_STEP), |t| press.at(t))?;
         Ok(model)
     }
 
@@ -179,13 +177,14 @@ impl Abdomen {
 
     fn update_stiffness(&mut self) -> Result<(), SceneError> {
         let props = properties(&self.values)?;
+        let press = self.pressing().at(self.time);
         let m = self
             .model
             .as_mut()
             .ok_or_else(|| SceneError::NotInitialized {
                 name: "do_step".into(),
             })?;
-        m.set_properties(props)?;
+        m.set_properties(props, press)?;
         self.stiffness_changed = false;
         Ok(())
     }
@@ -258,16 +257,18 @@ impl Scene for Abdomen {
             return Ok(());
         }
         let press = self.pressing().at(self.time);
-        let Some(m) = &self.model else {
+        let Some(m) = &mut self.model else {
             return Err(SceneError::NotInitialized {
                 name: self.values.variable(vr)?.name.clone(),
             });
         };
-        let outputs = self.outputs.get_or_insert_with(|| {
-            m.outputs
-                .compute(&m.meshed.mesh, &m.props, &m.stresses, &m.u_full, press)
-        });
-        out[0] = outputs[(vr - FIRST_OUTPUT) as usize];
+        let k = (vr - FIRST_OUTPUT) as usize;
+        let cavity = outputs::CAVITY.contains(&k);
+        let outputs = match &mut self.outputs {
+            Some(o) if !(cavity && o[k].is_nan()) => o,
+            slot => slot.insert(m.outputs(press, cavity)),
+        };
+        out[0] = outputs[k];
         Ok(())
     }
 
@@ -277,6 +278,9 @@ impl Scene for Abdomen {
         }
         if vr == WALL_SUPPORT && !matches!(value, "free" | "fixed") {
             return Err(model::wall_error(value));
+        }
+        if vr == MODEL_ORDER {
+            model::order(value)?;
         }
         self.values.set_string(vr, value)
     }
@@ -317,43 +321,16 @@ impl Scene for Abdomen {
                 limit: MAX_SUBSTEPS,
             });
         }
-        let mut dt = h / substeps;
         let press = self.pressing();
         let Some(m) = &mut self.model else {
             return Err(SceneError::NotInitialized {
                 name: "do_step".into(),
             });
         };
-        // Importers compute h as a difference of communication points, which jitters in the
-        // last bits; such a step reuses the factorization (the step still ends at t + h).
-        if (dt - m.integrator.dt()).abs() <= 1e-9 * dt {
-            dt = m.integrator.dt();
-        } else {
-            m.integrator.prepare(&m.structure, dt)?;
-        }
-        if let Some(limit) = m.integrator.critical_time_step() {
-            if dt > limit {
-                return Err(SceneError::Unstable {
-                    integrator: m.integrator.kind().name(),
-                    dt,
-                    limit,
-                });
-            }
-        }
         // The integrator counts its own time from the start; the load follows the caller's
         // (the FMI time): τ + (t − t_integrator) is t + j·dt in substep j.
         let offset = t - m.integrator.state().t;
-        let unit = &m.unit_load;
-        let mut load = |tau: f64, f: &mut [f64]| {
-            let force = press.at(tau + offset);
-            f.iter_mut().zip(unit).for_each(|(x, u)| *x = force * u);
-        };
-        for _ in 0..substeps as u64 {
-            m.integrator.step(&m.structure, &mut load)?;
-        }
-        m.structure
-            .dirichlet()
-            .expand(&m.integrator.state().u, &mut m.u_full);
+        m.advance(h / substeps, substeps as u64, |tau| press.at(tau + offset))?;
         self.time = t + h;
         self.outputs = None;
         Ok(())

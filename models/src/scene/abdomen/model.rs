@@ -1,22 +1,26 @@
 //! What the abdomen builds at initialization: the configuration resolved to an outline, the
 //! mesh, per-tissue properties, the assembled stiffness, mass and damping, the supports, the
 //! dynamic system with its integrator, the load pattern of the pressing force and the output
-//! plan.
+//! plan — and for `model_order = "modal"` the reduced system ([`Modal`]) the integrator
+//! steps instead of the full one.
 
 use std::path::Path;
 
 use super::config::PelvisConfig;
 use super::mesher::{self, Meshed};
-use super::outputs::OutputPlan;
+use super::outputs::{self, Field, OutputPlan, Rows};
 use super::variables::{
-    tissue_vr, CONFIGURATION, INTEGRATOR, TARGET_TRIANGLES, TISSUES, WALL_SUPPORT,
+    tissue_vr, CONFIGURATION, INTEGRATOR, MODEL_ORDER, MODES, TARGET_TRIANGLES, TISSUES,
+    WALL_SUPPORT,
 };
 use crate::assembly::plane::{self, Continuum, PlaneProperties, Truss};
 use crate::assembly::{loads, Assembler, Dirichlet};
 use crate::element::Elastic;
 use crate::mesh::Mesh2d;
 use crate::scene::{SceneError, Values};
-use crate::solve::{Damping, Factorization, Integrator, IntegratorKind, Statics, Structure};
+use crate::solve::{
+    Damping, Factorization, Integrator, IntegratorKind, ModalBasis, Reduction, Statics, Structure,
+};
 use crate::stress::TriangleStresses;
 
 /// Everything built at initialization.
@@ -25,16 +29,35 @@ pub struct Model {
     pub props: PlaneProperties,
     asm: Assembler,
     k: Vec<f64>,
+    /// The full system on the free dofs.
     pub structure: Structure,
+    /// Steps the full system, or the reduced one when `modal` is present.
     pub integrator: Box<dyn Integrator + Send>,
     /// Reduced load vector of a unit pressing force.
     pub unit_load: Vec<f64>,
     fixed: Vec<usize>,
-    /// The displacement of all dofs after the last step.
-    pub u_full: Vec<f64>,
+    /// The displacement of all dofs after the last step, valid when `expanded`.
+    u_full: Vec<f64>,
+    expanded: bool,
+    /// Free-dof scratch for expanding modal coordinates.
+    u_free: Vec<f64>,
     /// Stress operators of the triangles for the current properties.
     pub stresses: TriangleStresses,
     pub outputs: OutputPlan,
+    /// The reduced system of `model_order = "modal"`.
+    pub modal: Option<Modal>,
+}
+
+/// The reduced-order system: the basis, the projected matrices, the projected unit load
+/// and the output rows.
+#[derive(Debug)]
+pub struct Modal {
+    pub basis: ModalBasis,
+    pub structure: Structure,
+    pub unit_load: Vec<f64>,
+    rows: Rows,
+    /// The `modes` parameter the basis was built with.
+    count: usize,
 }
 
 impl std::fmt::Debug for Model {
@@ -92,6 +115,19 @@ fn supports(mesh: &Mesh2d, wall: &str) -> Result<Vec<usize>, SceneError> {
     Ok(fixed)
 }
 
+/// The reduction of a `model_order` value: `None` for `full`.
+pub fn order(value: &str) -> Result<Option<Reduction>, SceneError> {
+    match value {
+        "full" => Ok(None),
+        "modal" => Ok(Some(Reduction::Ritz)),
+        "eigenmodes" => Ok(Some(Reduction::Eigenmodes)),
+        "eigenmodes_truncated" => Ok(Some(Reduction::Truncated)),
+        other => Err(SceneError::Config(format!(
+            "model_order `{other}`: use `full`, `modal`, `eigenmodes` or `eigenmodes_truncated`"
+        ))),
+    }
+}
+
 /// The error for an `abdominal_wall` value other than `free` or `fixed`.
 pub fn wall_error(value: &str) -> SceneError {
     SceneError::Config(format!("abdominal_wall `{value}`: use `free` or `fixed`"))
@@ -125,10 +161,12 @@ impl Model {
         structure.set_damping_matrix(&c);
         let unit_load = diaphragm_unit_load(mesh, structure.dirichlet())?;
         let kind = IntegratorKind::parse(values.string(INTEGRATOR)?)?;
-        Ok(Self {
+        let mut model = Self {
             stresses: TriangleStresses::new(mesh, &props),
             outputs: OutputPlan::new(mesh)?,
             u_full: vec![0.0; mesh.n_dofs()],
+            expanded: true,
+            u_free: vec![0.0; structure.n()],
             meshed,
             props,
             asm,
@@ -137,18 +175,165 @@ impl Model {
             integrator: kind.create(),
             unit_load,
             fixed,
+            modal: None,
+        };
+        model.modal = match order(values.string(MODEL_ORDER)?)? {
+            None => None,
+            Some(reduction) => Some(model.reduced(reduction, values.real(MODES) as usize)?),
+        };
+        Ok(model)
+    }
+
+    /// The reduced system with a basis of `count` vectors for the pressing load's pattern,
+    /// for the current matrices.
+    fn reduced(&self, reduction: Reduction, count: usize) -> Result<Modal, SceneError> {
+        let basis = ModalBasis::new(&self.structure, reduction, count, &self.unit_load)?;
+        let mut unit_load = vec![0.0; basis.dim()];
+        basis.project(&self.unit_load, &mut unit_load);
+        let field = Field {
+            plan: &self.outputs,
+            mesh: &self.meshed.mesh,
+            props: &self.props,
+            stresses: &self.stresses,
+            u: &self.u_full,
+        };
+        Ok(Modal {
+            rows: Rows::new(field, &basis, self.structure.dirichlet()),
+            structure: basis.reduce(&self.structure)?,
+            unit_load,
+            basis,
+            count,
         })
     }
 
+    /// Prepares the integrator for steps of `dt` and starts it at rest at `t0`, under the
+    /// pressing force `force(t)` (N/mm).
+    pub fn start(
+        &mut self,
+        t0: f64,
+        dt: f64,
+        force: impl Fn(f64) -> f64,
+    ) -> Result<(), SceneError> {
+        let (structure, unit) = stepped(&self.modal, &self.structure, &self.unit_load);
+        let n = structure.n();
+        self.integrator.prepare(structure, dt)?;
+        let mut load = scaled(force, unit);
+        self.integrator
+            .start(structure, t0, &vec![0.0; n], &vec![0.0; n], &mut load)?;
+        Ok(())
+    }
+
+    /// Takes `steps` steps of `dt` under the pressing force `force(τ)` at integrator time τ.
+    /// A `dt` within 1e-9 relative of the prepared one reuses the factorization: importers
+    /// compute h as a difference of communication points, which jitters in the last bits.
+    pub fn advance(
+        &mut self,
+        mut dt: f64,
+        steps: u64,
+        force: impl Fn(f64) -> f64,
+    ) -> Result<(), SceneError> {
+        let (structure, unit) = stepped(&self.modal, &self.structure, &self.unit_load);
+        let integrator = &mut self.integrator;
+        if (dt - integrator.dt()).abs() <= 1e-9 * dt {
+            dt = integrator.dt();
+        } else {
+            integrator.prepare(structure, dt)?;
+        }
+        if let Some(limit) = integrator.critical_time_step() {
+            if dt > limit {
+                return Err(SceneError::Unstable {
+                    integrator: integrator.kind().name(),
+                    dt,
+                    limit,
+                });
+            }
+        }
+        let mut load = scaled(force, unit);
+        for _ in 0..steps {
+            integrator.step(structure, &mut load)?;
+        }
+        self.expanded = false;
+        Ok(())
+    }
+
+    /// Brings the displacement of all dofs up to date (expanding the modal coordinates
+    /// after steps); read it with [`u_full`](Self::u_full).
+    pub fn expand(&mut self) {
+        if !self.expanded {
+            let u = &self.integrator.state().u;
+            let bc = self.structure.dirichlet();
+            match &self.modal {
+                Some(r) => {
+                    r.basis.expand(u, &mut self.u_free);
+                    bc.expand(&self.u_free, &mut self.u_full);
+                }
+                None => bc.expand(u, &mut self.u_full),
+            }
+            self.expanded = true;
+        }
+    }
+
+    /// The displacement of all dofs as of the last [`expand`](Self::expand).
+    pub fn u_full(&self) -> &[f64] {
+        &self.u_full
+    }
+
+    /// The outputs after the last step (see [`OutputPlan::compute`]); the cavity-wide ones
+    /// only if `cavity`.
+    pub fn outputs(&mut self, press: f64, cavity: bool) -> [f64; outputs::COUNT] {
+        if cavity || self.modal.is_none() {
+            self.expand();
+        }
+        let field = Field {
+            plan: &self.outputs,
+            mesh: &self.meshed.mesh,
+            props: &self.props,
+            stresses: &self.stresses,
+            u: &self.u_full,
+        };
+        let cavity = cavity.then_some(&field);
+        match &mut self.modal {
+            Some(r) => {
+                let rows = r.rows.at(&self.integrator.state().u);
+                self.outputs.compute(rows, cavity, press)
+            }
+            None => self.outputs.compute(&field, cavity, press),
+        }
+    }
+
     /// Reassembles the stiffness for new properties and refactorizes the integrator's
-    /// effective matrix at its current step.
-    pub fn set_properties(&mut self, props: PlaneProperties) -> Result<(), SceneError> {
+    /// effective matrix at its current step. A modal model rebuilds its basis and restarts
+    /// its integrator from the current state projected onto the new basis (q = Φᵀ M u, and
+    /// likewise the velocity), under the pressing force `press` acting now.
+    pub fn set_properties(&mut self, props: PlaneProperties, press: f64) -> Result<(), SceneError> {
         plane::stiffness(&self.meshed.mesh, &self.asm, &props, &mut self.k);
         self.structure.set_stiffness(&self.k);
         self.stresses = TriangleStresses::new(&self.meshed.mesh, &props);
         self.props = props;
+        self.expanded = false;
         let dt = self.integrator.dt();
-        self.integrator.prepare(&self.structure, dt)?;
+        let Some(old) = &self.modal else {
+            self.integrator.prepare(&self.structure, dt)?;
+            return Ok(());
+        };
+        let state = self.integrator.state().clone();
+        let n = self.structure.n();
+        let (mut u, mut v) = (vec![0.0; n], vec![0.0; n]);
+        old.basis.expand(&state.u, &mut u);
+        old.basis.expand(&state.v, &mut v);
+        let new = self.reduced(old.basis.reduction, old.count)?;
+        let mass = self.structure.mass();
+        let (mut q, mut qv) = (vec![0.0; new.basis.dim()], vec![0.0; new.basis.dim()]);
+        new.basis.coordinates(mass, &u, &mut q);
+        new.basis.coordinates(mass, &v, &mut qv);
+        self.integrator.prepare(&new.structure, dt)?;
+        let started = {
+            let mut load = scaled(|_| press, &new.unit_load);
+            self.integrator
+                .start(&new.structure, state.t, &q, &qv, &mut load)
+        };
+        self.modal = Some(new);
+        started?;
         Ok(())
     }
 
@@ -162,6 +347,29 @@ impl Model {
         let mut u = vec![0.0; f.len()];
         statics.solve(self.asm.matrix(&self.k), &f, &mut u);
         Ok(u)
+    }
+}
+
+/// The system the integrator steps and its unit load: the reduced one if modal.
+fn stepped<'a>(
+    modal: &'a Option<Modal>,
+    full: &'a Structure,
+    unit_load: &'a [f64],
+) -> (&'a Structure, &'a [f64]) {
+    match modal {
+        Some(r) => (&r.structure, &r.unit_load),
+        None => (full, unit_load),
+    }
+}
+
+/// The load f(t) = force(t) · unit.
+fn scaled<'a>(
+    force: impl Fn(f64) -> f64 + 'a,
+    unit: &'a [f64],
+) -> impl FnMut(f64, &mut [f64]) + 'a {
+    move |t, f| {
+        let x = force(t);
+        f.iter_mut().zip(unit).for_each(|(f, u)| *f = x * u);
     }
 }
 

@@ -1,33 +1,60 @@
 //! The abdomen's scalar outputs, computed together on the first request after a step.
 //!
 //! What does not change between steps — which line elements form the pelvic floor and their
-//! lengths, triangle areas, which triangles lie along the floor, the nodes of the point
-//! outputs — is gathered once per mesh in an [`OutputPlan`]; a computation is then one pass
-//! over the triangles and the floor lines, without allocation.
+//! lengths, triangle areas, which triangles lie along the floor, the dofs of the point
+//! outputs — is gathered once per mesh in an [`OutputPlan`]. The outputs read the
+//! displacement through a [`Source`]: the field of all dofs ([`Field`], full order), or the
+//! modal coordinates through precomputed output rows ([`Rows`], reduced order: every floor
+//! stress, triangle stress component and point displacement is linear in u, so all of them
+//! are one small matrix–vector product). The cavity-wide von Mises statistics visit every
+//! triangle of the field (a modal model expands it first) and are computed only when one of
+//! them is read. No computation allocates.
+
+use std::ops::Range;
 
 use crate::assembly::plane::PlaneProperties;
+use crate::assembly::Dirichlet;
 use crate::element::{line2, tri3};
 use crate::mesh::Mesh2d;
 use crate::scene::SceneError;
-use crate::stress::TriangleStresses;
+use crate::solve::ModalBasis;
+use crate::stress::{PlaneStress, TriangleStresses};
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 /// Number of outputs, in table order: floor stress mean and max; von Mises mean and max
 /// along the floor and over the cavity; x and y displacement of the diaphragm apex, the floor
 /// midpoint and the wall midpoint; the pressing force.
 pub const COUNT: usize = 13;
 
+/// The cavity-wide outputs (von Mises mean and max over all triangles), in table order.
+pub const CAVITY: Range<usize> = 4..6;
+
 /// Line region of the pelvic floor (diaphragm 0, wall 1, floor 2).
 const FLOOR: u16 = 2;
+
+/// Where the outputs read the displacement.
+pub trait Source {
+    /// Axial stress of the k-th pelvic-floor line element (plan order).
+    fn floor_stress(&self, k: usize) -> f64;
+    /// Plane-strain stress of the k-th triangle along the floor (plan order).
+    fn along_stress(&self, k: usize) -> PlaneStress;
+    /// Component k of the point displacements (apex x, y; floor midpoint x, y; wall
+    /// midpoint x, y).
+    fn point(&self, k: usize) -> f64;
+}
 
 /// The per-mesh data the outputs need.
 #[derive(Debug, Clone)]
 pub struct OutputPlan {
     /// Pelvic-floor line elements and their lengths.
     floor_lines: Vec<(usize, f64)>,
-    /// Area of every triangle, and whether it has an edge on the pelvic floor.
-    triangles: Vec<(f64, bool)>,
-    /// Nodes of the point outputs: diaphragm apex, floor midpoint, wall midpoint.
-    points: [usize; 3],
+    /// Area of every triangle.
+    areas: Vec<f64>,
+    /// The triangles with an edge on the pelvic floor.
+    along: Vec<usize>,
+    /// Dofs of the point outputs (x, y of the diaphragm apex, floor midpoint, wall midpoint).
+    point_dofs: [usize; 6],
 }
 
 impl OutputPlan {
@@ -40,68 +67,178 @@ impl OutputPlan {
             })
             .collect();
         let floor = mesh.node_sets().get("pelvic_floor")?;
-        let triangles = mesh
-            .triangles()
-            .iter()
-            .enumerate()
-            .map(|(i, t)| {
-                let on_floor = t.iter().filter(|n| floor.binary_search(n).is_ok()).count();
-                (tri3::signed_area(&mesh.triangle(i)), on_floor >= 2)
+        let along = (0..mesh.triangles().len())
+            .filter(|&i| {
+                let t = mesh.triangles()[i];
+                t.iter().filter(|n| floor.binary_search(n).is_ok()).count() >= 2
             })
             .collect();
-        let mut points = [0; 3];
-        for (p, set) in points
-            .iter_mut()
-            .zip(["diaphragm_apex", "floor_mid", "wall_mid"])
+        let areas = (0..mesh.triangles().len())
+            .map(|i| tri3::signed_area(&mesh.triangle(i)))
+            .collect();
+        let mut point_dofs = [0; 6];
+        for (k, set) in ["diaphragm_apex", "floor_mid", "wall_mid"]
+            .iter()
+            .enumerate()
         {
-            *p = mesh.node_sets().get(set)?[0];
+            let node = mesh.node_sets().get(set)?[0];
+            point_dofs[2 * k] = 2 * node;
+            point_dofs[2 * k + 1] = 2 * node + 1;
         }
         Ok(Self {
             floor_lines,
-            triangles,
-            points,
+            areas,
+            along,
+            point_dofs,
         })
     }
 
-    /// The outputs for nodal displacements `u` (all dofs) and pressing force `press`.
+    /// The outputs read from `source` with pressing force `press`; the cavity-wide ones
+    /// ([`CAVITY`]) from `cavity`, the displacement field, if given, else NaN: not computed.
     pub fn compute(
         &self,
-        mesh: &Mesh2d,
-        props: &PlaneProperties,
-        stresses: &TriangleStresses,
-        u: &[f64],
+        source: &impl Source,
+        cavity: Option<&Field<'_>>,
         press: f64,
     ) -> [f64; COUNT] {
-        let young = props.trusses[usize::from(FLOOR)].young;
         let mut floor = Stats::default();
-        for &(i, length) in &self.floor_lines {
-            let ue = line2::Dofs::from_fn(|k, _| u[mesh.line_dofs(i)[k]]);
-            floor.add(line2::axial_stress(&mesh.line(i), young, &ue), length);
+        for (k, &(_, length)) in self.floor_lines.iter().enumerate() {
+            floor.add(source.floor_stress(k), length);
         }
-        let (mut all, mut along) = (Stats::default(), Stats::default());
-        for (i, &(area, on_floor)) in self.triangles.iter().enumerate() {
-            let vm = stresses.stress(mesh, i, u).von_mises();
-            all.add(vm, area);
-            if on_floor {
-                along.add(vm, area);
+        let mut along = Stats::default();
+        for (k, &i) in self.along.iter().enumerate() {
+            along.add(source.along_stress(k).von_mises(), self.areas[i]);
+        }
+        let (mean, max) = match cavity {
+            Some(field) => {
+                let mut all = Stats::default();
+                for (i, &area) in self.areas.iter().enumerate() {
+                    all.add(
+                        field.stresses.stress(field.mesh, i, field.u).von_mises(),
+                        area,
+                    );
+                }
+                (all.mean(), all.max)
             }
-        }
-        let [a, f, w] = self.points;
+            None => (f64::NAN, f64::NAN),
+        };
+        let p = |k| source.point(k);
         [
             floor.mean(),
             floor.max,
             along.mean(),
             along.max,
-            all.mean(),
-            all.max,
-            u[2 * a],
-            u[2 * a + 1],
-            u[2 * f],
-            u[2 * f + 1],
-            u[2 * w],
-            u[2 * w + 1],
+            mean,
+            max,
+            p(0),
+            p(1),
+            p(2),
+            p(3),
+            p(4),
+            p(5),
             press,
         ]
+    }
+}
+
+/// A displacement field of all dofs as the outputs' source.
+#[derive(Debug, Clone, Copy)]
+pub struct Field<'a> {
+    pub plan: &'a OutputPlan,
+    pub mesh: &'a Mesh2d,
+    pub props: &'a PlaneProperties,
+    pub stresses: &'a TriangleStresses,
+    pub u: &'a [f64],
+}
+
+impl Source for Field<'_> {
+    fn floor_stress(&self, k: usize) -> f64 {
+        let i = self.plan.floor_lines[k].0;
+        let young = self.props.trusses[usize::from(FLOOR)].young;
+        let ue = line2::Dofs::from_fn(|a, _| self.u[self.mesh.line_dofs(i)[a]]);
+        line2::axial_stress(&self.mesh.line(i), young, &ue)
+    }
+
+    fn along_stress(&self, k: usize) -> PlaneStress {
+        self.stresses.stress(self.mesh, self.plan.along[k], self.u)
+    }
+
+    fn point(&self, k: usize) -> f64 {
+        self.u[self.plan.point_dofs[k]]
+    }
+}
+
+/// The outputs near the floor as rows over a modal basis: the floor stresses, the stress
+/// components (σxx, σyy, σxy, σzz) of the triangles along the floor and the point
+/// displacements, each a linear function of the modal coordinates. One matrix–vector
+/// product evaluates them all.
+#[derive(Debug, Clone)]
+pub struct Rows {
+    /// Floor stresses, then 4 rows per triangle along the floor, then the 6 points.
+    rows: Mat<f64>,
+    /// The rows applied to the last coordinates.
+    values: Vec<f64>,
+    n_floor: usize,
+}
+
+impl Rows {
+    /// Evaluates every row on each basis vector (expanded to all dofs by `bc`).
+    pub fn new(field: Field<'_>, basis: &ModalBasis, bc: &Dirichlet) -> Self {
+        let (n_floor, n_along) = (field.plan.floor_lines.len(), field.plan.along.len());
+        let n_rows = n_floor + 4 * n_along + 6;
+        let mut rows = Mat::zeros(n_rows, basis.dim());
+        let mut u = vec![0.0; field.u.len()];
+        for j in 0..basis.dim() {
+            bc.expand(basis.column(j), &mut u);
+            let f = Field { u: &u, ..field };
+            let (floor, rest) = rows.col_as_slice_mut(j).split_at_mut(n_floor);
+            let (along, points) = rest.split_at_mut(4 * n_along);
+            floor
+                .iter_mut()
+                .enumerate()
+                .for_each(|(k, x)| *x = f.floor_stress(k));
+            for (k, x) in along.chunks_exact_mut(4).enumerate() {
+                let s = f.along_stress(k);
+                x.copy_from_slice(&[s.xx, s.yy, s.xy, s.zz]);
+            }
+            points
+                .iter_mut()
+                .enumerate()
+                .for_each(|(k, x)| *x = f.point(k));
+        }
+        Self {
+            rows,
+            values: vec![0.0; n_rows],
+            n_floor,
+        }
+    }
+
+    /// The rows applied to modal coordinates `q`, as a source. Allocates nothing.
+    pub fn at(&mut self, q: &[f64]) -> &Self {
+        let q = MatRef::from_column_major_slice(q, q.len(), 1);
+        let y = MatMut::from_column_major_slice_mut(&mut self.values, self.rows.nrows(), 1);
+        matmul(y, Accum::Replace, &self.rows, q, 1.0, Par::Seq);
+        self
+    }
+}
+
+impl Source for Rows {
+    fn floor_stress(&self, k: usize) -> f64 {
+        self.values[k]
+    }
+
+    fn along_stress(&self, k: usize) -> PlaneStress {
+        let s = &self.values[self.n_floor + 4 * k..self.n_floor + 4 * k + 4];
+        PlaneStress {
+            xx: s[0],
+            yy: s[1],
+            xy: s[2],
+            zz: s[3],
+        }
+    }
+
+    fn point(&self, k: usize) -> f64 {
+        self.values[self.values.len() - 6 + k]
     }
 }
 

@@ -15,12 +15,14 @@ pub const WALL_SUPPORT: u32 = 2;
 pub const INTEGRATOR: u32 = 3;
 pub const MAX_STEP: u32 = 4;
 pub const MEMORY_LIMIT: u32 = 5;
+pub const MODEL_ORDER: u32 = 6;
+pub const MODES: u32 = 7;
 /// First of the 4 × 4 tissue parameters: E, ν or area, density, damping per tissue.
-pub const TISSUE_BASE: u32 = 6;
-pub const PRESS_AMPLITUDE: u32 = 22;
-pub const PRESS_FREQUENCY: u32 = 23;
-pub const PRESS_FORCE: u32 = 24;
-pub const FIRST_OUTPUT: u32 = 25;
+pub const TISSUE_BASE: u32 = 8;
+pub const PRESS_AMPLITUDE: u32 = 24;
+pub const PRESS_FREQUENCY: u32 = 25;
+pub const PRESS_FORCE: u32 = 26;
+pub const FIRST_OUTPUT: u32 = 27;
 
 /// Value reference of field `field` (0 E, 1 ν or area, 2 density, 3 damping) of a tissue.
 pub fn tissue_vr(tissue: usize, field: u32) -> u32 {
@@ -37,6 +39,8 @@ pub fn table() -> Vec<Variable> {
         Variable::string("integrator", "houbolt", "houbolt, newmark, central_difference or rk4"),
         Variable::parameter("max_step", Fixed, "s", 1e-3, (1e-8, 10.0), "largest internal time step; a communication step is split into equal substeps (at most 100000 per communication step)"),
         memory_limit(),
+        Variable::string("model_order", "full", "`full` (every dof); `modal`: `modes` load-dependent Ritz vectors of the pressing load (a Krylov basis holding its static response; within 1 % of full order at the default settings, see the README); `eigenmodes`: the lowest `modes` eigenmodes plus the load's static correction; `eigenmodes_truncated`: the eigenmodes alone"),
+        Variable::parameter("modes", Fixed, "1", 80.0, (1.0, 2000.0), "basis vectors of a reduced model order (modal, eigenmodes)"),
     ];
     let defaults = [(0.005, 0.45), (0.2, 4.0), (0.0225, 20.0), (0.1, 8.0)];
     for (i, name) in TISSUES.iter().enumerate() {
