@@ -9,7 +9,8 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::{Parser, Subcommand};
 use harness::report::{
-    self, cut_speed_error, fields, identification, series, speed_error, sweep, verification,
+    self, cut_speed_error, fields, identification, model_order, series, speed_error, sweep,
+    verification,
 };
 use harness::studies::identify::Model;
 
@@ -85,6 +86,11 @@ enum Command {
     /// Stress map of the abdomen and VTU fields of both scenes
     Fields {
         #[arg(long, default_value = "report/fields")]
+        out: PathBuf,
+    },
+    /// The shipped pelvis sweep in full and modal order: wall times and peak differences
+    ModelOrder {
+        #[arg(long, default_value = "report/model_order")]
         out: PathBuf,
     },
     /// One run of a scene in process, as a CSV of time and outputs (to standard output
@@ -168,6 +174,9 @@ fn run(cli: Cli) -> Result<Option<PathBuf>> {
         )?,
         Command::Verify { out } => report::write(&out, "Verification", verification::section)?,
         Command::Fields { out } => report::write(&out, "Fields", fields::section)?,
+        Command::ModelOrder { out } => {
+            report::write(&out, "Full against modal order", model_order::section)?
+        }
         Command::Simulate {
             scene,
             start_time,
