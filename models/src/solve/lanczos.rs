@@ -47,13 +47,7 @@ pub fn lowest(
     count: usize,
 ) -> Result<Modes, ModelError> {
     let n = k.nrows();
-    if count == 0 || count > n {
-        return Err(ModelError::InvalidParameter {
-            name: "modes".into(),
-            value: count as f64,
-            reason: "must be at least 1 and at most the number of free dofs",
-        });
-    }
+    check_count(count, n)?;
     let mut krylov = Krylov::new(m, (2 * count + 20).min(n))?;
     let mut w = start_vector(n, 0);
     krylov.push_start(&mut w, m)?;
@@ -93,13 +87,7 @@ pub fn krylov(
     dim: usize,
 ) -> Result<Mat<f64>, ModelError> {
     let n = m.nrows();
-    if dim == 0 || dim > n {
-        return Err(ModelError::InvalidParameter {
-            name: "modes".into(),
-            value: dim as f64,
-            reason: "must be at least 1 and at most the number of free dofs",
-        });
-    }
+    check_count(dim, n)?;
     let mut krylov = Krylov::new(m, dim)?;
     let mut w = f.to_vec();
     k_factor.solve_in_place(&mut w);
@@ -112,6 +100,18 @@ pub fn krylov(
         krylov.push(&w, beta, beta)?;
     }
     Ok(krylov.q.subcols(0, krylov.len()).to_owned())
+}
+
+/// Refuses a basis size outside 1..=n (the `modes` parameter).
+fn check_count(count: usize, n: usize) -> Result<(), ModelError> {
+    if count == 0 || count > n {
+        return Err(ModelError::InvalidParameter {
+            name: "modes".into(),
+            value: count as f64,
+            reason: "must be at least 1 and at most the number of free dofs",
+        });
+    }
+    Ok(())
 }
 
 /// A deterministic start vector with components in every direction; `seed` varies it.

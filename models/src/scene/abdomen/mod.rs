@@ -119,7 +119,7 @@ impl Abdomen {
         Some((&m.meshed.mesh, &m.props, m.u_full()))
     }
 
-    /// The reduction basis of `model_order = "modal"` (its modes, static corrections and
+    /// The reduction basis of a reduced model order (its kind, Ritz values and
     /// construction time), after initialization.
     pub fn modal_basis(&self) -> Option<&ModalBasis> {
         self.model.as_ref()?.modal.as_ref().map(|r| &r.basis)
@@ -140,13 +140,7 @@ impl Abdomen {
     /// dofs, e.g. one from [`Abdomen::static_displacement`].
     pub fn evaluate(&self, u_full: &[f64], press: f64) -> Result<Vec<f64>, SceneError> {
         let m = self.built("evaluate")?;
-        let field = outputs::Field {
-            plan: &m.outputs,
-            mesh: &m.meshed.mesh,
-            props: &m.props,
-            stresses: &m.stresses,
-            u: u_full,
-        };
+        let field = m.field(u_full);
         Ok(m.outputs.compute(&field, Some(&field), press).to_vec())
     }
 

@@ -190,15 +190,8 @@ impl Model {
         let basis = ModalBasis::new(&self.structure, reduction, count, &self.unit_load)?;
         let mut unit_load = vec![0.0; basis.dim()];
         basis.project(&self.unit_load, &mut unit_load);
-        let field = Field {
-            plan: &self.outputs,
-            mesh: &self.meshed.mesh,
-            props: &self.props,
-            stresses: &self.stresses,
-            u: &self.u_full,
-        };
         Ok(Modal {
-            rows: Rows::new(field, &basis, self.structure.dirichlet()),
+            rows: Rows::new(self.field(&self.u_full), &basis, self.structure.dirichlet()),
             structure: basis.reduce(&self.structure)?,
             unit_load,
             basis,
@@ -284,20 +277,25 @@ impl Model {
         if cavity || self.modal.is_none() {
             self.expand();
         }
-        let field = Field {
+        if let Some(r) = &mut self.modal {
+            r.rows.evaluate(&self.integrator.state().u);
+        }
+        let field = self.field(&self.u_full);
+        let cavity = cavity.then_some(&field);
+        match &self.modal {
+            Some(r) => self.outputs.compute(&r.rows, cavity, press),
+            None => self.outputs.compute(&field, cavity, press),
+        }
+    }
+
+    /// The displacement `u` (all dofs) with what the outputs need to read it.
+    pub fn field<'a>(&'a self, u: &'a [f64]) -> Field<'a> {
+        Field {
             plan: &self.outputs,
             mesh: &self.meshed.mesh,
             props: &self.props,
             stresses: &self.stresses,
-            u: &self.u_full,
-        };
-        let cavity = cavity.then_some(&field);
-        match &mut self.modal {
-            Some(r) => {
-                let rows = r.rows.at(&self.integrator.state().u);
-                self.outputs.compute(rows, cavity, press)
-            }
-            None => self.outputs.compute(&field, cavity, press),
+            u,
         }
     }
 

@@ -213,12 +213,12 @@ impl Rows {
         }
     }
 
-    /// The rows applied to modal coordinates `q`, as a source. Allocates nothing.
-    pub fn at(&mut self, q: &[f64]) -> &Self {
+    /// Applies the rows to modal coordinates `q`; the rows then act as a source of those
+    /// values. Allocates nothing.
+    pub fn evaluate(&mut self, q: &[f64]) {
         let q = MatRef::from_column_major_slice(q, q.len(), 1);
         let y = MatMut::from_column_major_slice_mut(&mut self.values, self.rows.nrows(), 1);
         matmul(y, Accum::Replace, &self.rows, q, 1.0, Par::Seq);
-        self
     }
 }
 
