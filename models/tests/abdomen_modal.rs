@@ -206,4 +206,7 @@ fn bad_model_orders_are_refused_by_name() {
     s.set("modes", 2000.0).unwrap();
     let err = s.initialize(0.0).unwrap_err().to_string();
     assert!(err.contains("modes"), "{err}");
+    s.set("modes", 12.5).unwrap();
+    let err = s.initialize(0.0).unwrap_err().to_string();
+    assert!(err.contains("modes") && err.contains("12.5"), "{err}");
 }

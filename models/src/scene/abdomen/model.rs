@@ -115,6 +115,21 @@ fn supports(mesh: &Mesh2d, wall: &str) -> Result<Vec<usize>, SceneError> {
     Ok(fixed)
 }
 
+/// The `modes` parameter as a count; a fractional value is refused.
+fn modes(values: &Values) -> Result<usize, SceneError> {
+    let x = values.real(MODES);
+    if x.fract() != 0.0 {
+        return Err(SceneError::Model(
+            crate::error::ModelError::InvalidParameter {
+                name: "modes".into(),
+                value: x,
+                reason: "must be a whole number of basis vectors",
+            },
+        ));
+    }
+    Ok(x as usize)
+}
+
 /// The reduction of a `model_order` value: `None` for `full`.
 pub fn order(value: &str) -> Result<Option<Reduction>, SceneError> {
     match value {
@@ -179,7 +194,7 @@ impl Model {
         };
         model.modal = match order(values.string(MODEL_ORDER)?)? {
             None => None,
-            Some(reduction) => Some(model.reduced(reduction, values.real(MODES) as usize)?),
+            Some(reduction) => Some(model.reduced(reduction, modes(values)?)?),
         };
         Ok(model)
     }
