@@ -34,7 +34,7 @@ fn outputs(s: &Abdomen, cavity: bool) -> Vec<u32> {
 /// reduced system and the output rows).
 #[divan::bench(args = ORDERS, sample_count = 20)]
 fn setup(bencher: Bencher, order: &str) {
-    bencher.bench(|| initialized(order));
+    bencher.bench_local(|| initialized(order));
 }
 
 /// One Houbolt step (no outputs read).
@@ -70,7 +70,7 @@ fn step_with_outputs<const CAVITY: bool>(bencher: Bencher, order: &str) {
 /// every 10 ms.
 #[divan::bench(args = ORDERS, sample_count = 10)]
 fn sweep_case_one_second(bencher: Bencher, order: &str) {
-    bencher.bench(|| {
+    bencher.bench_local(|| {
         let mut s = initialized(order);
         let vr = s.lookup("floor_stress_max").unwrap();
         let mut peak = f64::NEG_INFINITY;
@@ -84,4 +84,47 @@ fn sweep_case_one_second(bencher: Bencher, order: &str) {
         }
         peak
     });
+}
+
+/// The parts of a full-order Houbolt step on the default abdomen: the history product
+/// M x_m + C x_c, and the triangular solves with the effective matrix.
+mod full_order_parts {
+    use super::*;
+    use models::solve::{History, Structure};
+
+    fn system() -> (Abdomen, usize) {
+        let s = initialized("full");
+        let n = s.system().expect("initialized").0.n();
+        (s, n)
+    }
+
+    #[divan::bench]
+    fn history_product(bencher: Bencher) {
+        let (s, n) = system();
+        let structure: &Structure = s.system().unwrap().0;
+        let (mut x_m, mut x_c, mut out) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let h: Vec<f64> = (0..n).map(|i| (i % 7) as f64).collect();
+        let history = History {
+            vectors: [&h, &h, &h],
+            mass: [5e6, -4e6, 1e6],
+            damping: [3e3, -1.5e3, 1e3 / 3.0],
+        };
+        bencher.bench_local(|| structure.add_history(history, &mut x_m, &mut x_c, &mut out));
+    }
+
+    #[divan::bench]
+    fn solve(bencher: Bencher) {
+        let (s, n) = system();
+        let structure = s.system().unwrap().0;
+        let mut chol = structure.analyze().unwrap();
+        let mut a = vec![0.0; structure.dirichlet().nnz()];
+        structure.effective(2e6, 11e3 / 6.0, &mut a);
+        chol.factorize(structure.dirichlet().matrix(&a)).unwrap();
+        let b: Vec<f64> = (0..n).map(|i| (i % 7) as f64).collect();
+        let mut x = b.clone();
+        bencher.bench_local(|| {
+            x.copy_from_slice(&b);
+            chol.solve_in_place(&mut x);
+        });
+    }
 }

@@ -16,10 +16,11 @@ use faer::sparse::linalg::cholesky::{
     SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side, Spec};
 
 use super::ordering;
+use super::sweeps::Sweeps;
 use crate::budget;
 use crate::error::ModelError;
 
@@ -43,10 +44,18 @@ pub enum Factorization {
     Supernodal,
 }
 
-/// A symbolic + numeric Cholesky factorization with its workspace.
+/// A symbolic + numeric Cholesky factorization with its workspace. Indices are 32-bit
+/// (less memory traffic in the solves); a pattern too large for them is refused.
 pub struct Cholesky {
-    symbolic: SymbolicCholesky<usize>,
+    symbolic: SymbolicCholesky<u32>,
+    /// The analysed pattern in 32-bit indices: faer factorizes a matrix of the factor's
+    /// index type.
+    pattern: SymbolicSparseColMat<u32>,
     l_values: Vec<f64>,
+    /// The right-hand side in the factor's numbering during a simplicial solve.
+    permuted: Vec<f64>,
+    /// A simplicial factor laid out for the sweeps (empty for a supernodal one).
+    sweeps: Sweeps,
     mem: MemBuffer,
     /// Equation of each pivot in the original numbering (new → old).
     perm_fwd: Vec<usize>,
@@ -71,6 +80,7 @@ impl Cholesky {
         pattern: SymbolicSparseColMatRef<'_, usize>,
         factorization: Factorization,
     ) -> Result<Self, ModelError> {
+        let narrow = narrow(pattern)?;
         let threshold = match factorization {
             Factorization::Simplicial => SupernodalThreshold::FORCE_SIMPLICIAL,
             Factorization::Supernodal => SupernodalThreshold::FORCE_SUPERNODAL,
@@ -83,16 +93,17 @@ impl Cholesky {
         let ordering = match factorization {
             Factorization::Simplicial => SymmetricOrdering::Amd,
             Factorization::Supernodal => {
-                fwd = ordering::nested_dissection(pattern)?;
-                let mut i = vec![0; fwd.len()];
-                for (k, &p) in fwd.iter().enumerate() {
-                    i[p] = k;
+                let nd = ordering::nested_dissection(pattern)?;
+                let mut i = vec![0; nd.len()];
+                for (k, &p) in nd.iter().enumerate() {
+                    i[p] = k as u32;
                 }
+                fwd = nd.into_iter().map(|p| p as u32).collect::<Vec<_>>();
                 inv = i;
                 SymmetricOrdering::Custom(PermRef::new_checked(&fwd, &inv, fwd.len()))
             }
         };
-        let symbolic = factorize_symbolic_cholesky(pattern, Side::Lower, ordering, params)
+        let symbolic = factorize_symbolic_cholesky(narrow.as_ref(), Side::Lower, ordering, params)
             .map_err(|e| ModelError::LinearAlgebra(format!("symbolic Cholesky: {e:?}")))?;
         let par = if symbolic.len_val() > PARALLEL_VALUES {
             Par::rayon(0)
@@ -103,16 +114,34 @@ impl Cholesky {
             symbolic.factorize_numeric_llt_scratch::<f64>(par, Spec::<LltParams, f64>::default()),
             symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
         ]);
+        // The factor, and for the simplicial layout its copy for the sweeps (values, their
+        // positions, row indices: at most one of each per stored value).
+        let copies = match factorization {
+            Factorization::Simplicial => 2 * budget::bytes_of::<f64>(1),
+            Factorization::Supernodal => 0,
+        };
+        let per_value = budget::bytes_of::<f64>(1) + copies;
         budget::claim(
             "the Cholesky factor",
-            budget::bytes_of::<f64>(symbolic.len_val()).saturating_add(req.size_bytes()),
+            symbolic
+                .len_val()
+                .saturating_mul(per_value)
+                .saturating_add(req.size_bytes()),
         )?;
         let perm_fwd = match symbolic.perm() {
-            Some(p) => p.arrays().0.to_vec(),
+            Some(p) => p.arrays().0.iter().map(|&i| i as usize).collect(),
             None => (0..symbolic.nrows()).collect(),
         };
+        let n = symbolic.nrows();
+        let sweeps = match symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(s) => Sweeps::new(s.col_ptr(), s.row_idx()),
+            SymbolicCholeskyRaw::Supernodal(_) => Sweeps::default(),
+        };
         Ok(Self {
+            sweeps,
             l_values: vec![0.0; symbolic.len_val()],
+            permuted: vec![0.0; n],
+            pattern: narrow,
             symbolic,
             mem: MemBuffer::new(req),
             perm_fwd,
@@ -135,16 +164,22 @@ impl Cholesky {
     /// factorization is invalidated, so a later solve cannot silently use stale values.
     pub fn factorize(&mut self, a: SparseColMatRef<'_, usize, f64>) -> Result<(), ModelError> {
         self.factorized = false;
+        assert_eq!(
+            a.val().len(),
+            self.pattern.row_idx().len(),
+            "Cholesky::factorize with a matrix of another pattern than the analysed one"
+        );
         let stack = MemStack::new(&mut self.mem);
         let result = self.symbolic.factorize_numeric_llt(
             &mut self.l_values,
-            a,
+            SparseColMatRef::new(self.pattern.as_ref(), a.val()),
             Side::Lower,
             LltRegularization::default(),
             self.par,
             stack,
             Spec::default(),
         );
+        super::vector_state::clear();
         if let Err(LltError::NonPositivePivot { index }) = result {
             let equation = self.perm_fwd.get(index).copied().unwrap_or(index);
             return Err(ModelError::Singular {
@@ -154,6 +189,9 @@ impl Cholesky {
             });
         }
         self.check_pivots(a)?;
+        if let SymbolicCholeskyRaw::Simplicial(_) = self.symbolic.raw() {
+            self.sweeps.load(&self.l_values);
+        }
         self.factorized = true;
         Ok(())
     }
@@ -184,7 +222,7 @@ impl Cholesky {
             SymbolicCholeskyRaw::Simplicial(s) => {
                 // faer stores the diagonal first in each column of L.
                 for (j, &start) in s.col_ptr()[..s.nrows()].iter().enumerate() {
-                    f(j, self.l_values[start]);
+                    f(j, self.l_values[start as usize]);
                 }
             }
             SymbolicCholeskyRaw::Supernodal(s) => {
@@ -201,10 +239,7 @@ impl Cholesky {
     }
 
     /// Solves A x = b in place (`rhs` holds b on entry, x on return). Allocates nothing.
-    ///
-    /// A hand-written pair of sweeps over the simplicial factor was tried and measured
-    /// slower than faer's solve (303 µs against 228 µs on the 6,000-triangle benchmark),
-    /// so faer's solve is used for both layouts.
+    /// A simplicial factor is swept by [`super::sweeps`], a supernodal one by faer.
     ///
     /// # Panics
     /// If called before a successful [`factorize`](Self::factorize) — a programming error,
@@ -214,15 +249,30 @@ impl Cholesky {
             self.factorized,
             "Cholesky::solve_in_place before a successful factorize"
         );
-        let n = rhs.len();
-        let stack = MemStack::new(&mut self.mem);
-        let rhs = MatMut::from_column_major_slice_mut(rhs, n, 1);
-        LltRef::new(&self.symbolic, &self.l_values).solve_in_place_with_conj(
-            Conj::No,
-            rhs,
-            Par::Seq,
-            stack,
-        );
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(_) => {
+                let x = &mut self.permuted;
+                for (x, &p) in x.iter_mut().zip(&self.perm_fwd) {
+                    *x = rhs[p];
+                }
+                self.sweeps.solve(x);
+                for (&x, &p) in x.iter().zip(&self.perm_fwd) {
+                    rhs[p] = x;
+                }
+            }
+            SymbolicCholeskyRaw::Supernodal(_) => {
+                let n = rhs.len();
+                let stack = MemStack::new(&mut self.mem);
+                let rhs = MatMut::from_column_major_slice_mut(rhs, n, 1);
+                LltRef::new(&self.symbolic, &self.l_values).solve_in_place_with_conj(
+                    Conj::No,
+                    rhs,
+                    Par::Seq,
+                    stack,
+                );
+                super::vector_state::clear();
+            }
+        }
     }
 }
 
@@ -235,11 +285,36 @@ fn diagonal(a: SparseColMatRef<'_, usize, f64>, j: usize) -> f64 {
         .map_or(0.0, |k| a.val()[start + k])
 }
 
+/// The pattern with 32-bit indices (the factorization's and the products' index type), or an
+/// error naming what does not fit.
+pub(super) fn narrow(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+) -> Result<SymbolicSparseColMat<u32>, ModelError> {
+    let too_large = || {
+        ModelError::LinearAlgebra(format!(
+            "{} stored entries exceed the solvers' 32-bit indices",
+            pattern.row_idx().len()
+        ))
+    };
+    let to_u32 = |x: &[usize]| -> Result<Vec<u32>, ModelError> {
+        x.iter()
+            .map(|&i| u32::try_from(i).map_err(|_| too_large()))
+            .collect()
+    };
+    Ok(SymbolicSparseColMat::new_checked(
+        pattern.nrows(),
+        pattern.ncols(),
+        to_u32(pattern.col_ptr())?,
+        None,
+        to_u32(pattern.row_idx())?,
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::assembly::Assembler;
-    use nalgebra::Matrix2;
+    use nalgebra::{Matrix2, SMatrix, SVector};
 
     fn chain(n: usize, k: f64) -> (Assembler, Vec<f64>) {
         let elems: Vec<[usize; 2]> = (0..n - 1).map(|i| [i, i + 1]).collect();
@@ -260,6 +335,10 @@ mod tests {
             v[d0] += 3.0;
             let mut chol = Cholesky::analyze(asm.symbolic().as_ref(), factorization).unwrap();
             chol.factorize(asm.matrix(&v)).unwrap();
+            // Most of a chain's columns share no rows below them: panels of one column.
+            if factorization == Factorization::Simplicial {
+                assert!(chol.sweeps.widths().contains(&1));
+            }
             // Unit load at the free end: u_i = (i + 1)/k.
             let mut x = vec![0.0; 50];
             x[49] = 1.0;
@@ -283,6 +362,30 @@ mod tests {
                 matches!(err, ModelError::Singular { .. }),
                 "{factorization:?}: {err}"
             );
+        }
+    }
+
+    /// A dense SPD matrix of 7 equations (one element over all of them): every column joins
+    /// a panel, so the sweeps run panels of width 4 and 3 (the plane and chain tests in
+    /// `cholesky` and tests/full_order_step.rs cover widths 1, 2 and 4).
+    #[test]
+    fn a_dense_matrix_is_solved_like_nalgebra_solves_it() {
+        let b = SMatrix::<f64, 7, 7>::from_fn(|i, j| ((3 * i + 5 * j) % 11) as f64 - 5.0);
+        let a = b * b.transpose() + SMatrix::<f64, 7, 7>::identity() * 7.0;
+        let asm = Assembler::new(7, 1, &[[0, 1, 2, 3, 4, 5, 6]]);
+        let mut values = asm.zeros();
+        asm.add(&mut values, 0, &a);
+        let mut chol =
+            Cholesky::analyze(asm.symbolic().as_ref(), Factorization::Simplicial).unwrap();
+        chol.factorize(asm.matrix(&values)).unwrap();
+        let widths: Vec<u32> = chol.sweeps.widths();
+        assert_eq!(widths, [4, 3]);
+        let rhs = SVector::<f64, 7>::from_fn(|i, _| i as f64 - 2.5);
+        let mut x: Vec<f64> = rhs.iter().copied().collect();
+        chol.solve_in_place(&mut x);
+        let expected = a.cholesky().unwrap().solve(&rhs);
+        for (x, e) in x.iter().zip(expected.iter()) {
+            assert!((x - e).abs() < 1e-13 * expected.amax(), "{x} {e}");
         }
     }
 }

@@ -29,7 +29,7 @@ use super::integrator::{
     Load, State,
 };
 use super::newmark::Newmark;
-use super::structure::{Effective, Structure};
+use super::structure::{Effective, History, Structure};
 use crate::error::ModelError;
 
 /// Houbolt integrator. See the module documentation.
@@ -40,12 +40,39 @@ pub struct Houbolt {
     effective: Effective,
     /// u_{n−1} and u_{n−2}.
     back: [Vec<f64>; 2],
-    /// Steps left to take with the starter, and the starter itself.
+    /// Steps left to take with the starter, and the starter itself (an unprepared default,
+    /// holding no factor, once the start is over).
     start_steps: u8,
     starter: Newmark,
     rhs: Vec<f64>,
     mass_part: Vec<f64>,
     damping_part: Vec<f64>,
+    /// The difference formulas for the prepared Δt.
+    coefficients: Coefficients,
+}
+
+/// The Houbolt formulas for one Δt as coefficients of (u_{n+1}, u_n, u_{n−1}, u_{n−2}), so
+/// that a step multiplies instead of dividing.
+#[derive(Debug, Default, Clone, Copy)]
+struct Coefficients {
+    /// The history's mass and damping terms, on (u_n, u_{n−1}, u_{n−2}).
+    mass: [f64; 3],
+    damping: [f64; 3],
+    /// ü_{n+1} and u̇_{n+1} (seed 003 eq. B.15, B.16).
+    acceleration: [f64; 4],
+    velocity: [f64; 4],
+}
+
+impl Coefficients {
+    fn new(dt: f64) -> Self {
+        let (a, v) = (1.0 / (dt * dt), 1.0 / (6.0 * dt));
+        Self {
+            mass: [5.0 * a, -4.0 * a, a],
+            damping: [3.0 / dt, -1.5 / dt, 1.0 / (3.0 * dt)],
+            acceleration: [2.0 * a, -5.0 * a, 4.0 * a, -a],
+            velocity: [11.0 * v, -18.0 * v, 9.0 * v, -2.0 * v],
+        }
+    }
 }
 
 impl Houbolt {
@@ -63,6 +90,10 @@ impl Houbolt {
         self.state.copy_from(self.starter.state());
         self.state.steps = steps;
         self.start_steps -= 1;
+        if self.start_steps == 0 {
+            // Not needed until a restart (which prepares a new one): free its factor.
+            self.starter = Newmark::default();
+        }
         Ok(())
     }
 }
@@ -78,9 +109,12 @@ impl Integrator for Houbolt {
             self.start_steps = 2;
         }
         self.dt = dt;
+        self.coefficients = Coefficients::new(dt);
         if self.start_steps > 0 {
-            // A restart is pending: the starter needs the new dt or matrices too.
+            // A restart is pending: the starter needs the new dt or matrices too, and its
+            // state sized now, so that the restart in `step` does not allocate.
             self.starter.prepare(s, dt)?;
+            self.starter.restart_from(&self.state);
         }
         for x in [&mut self.rhs, &mut self.mass_part, &mut self.damping_part] {
             x.resize(s.n(), 0.0);
@@ -108,18 +142,24 @@ impl Integrator for Houbolt {
     }
 
     fn step(&mut self, s: &Structure, load: &mut Load<'_>) -> Result<(), ModelError> {
+        super::vector_state::clear();
         if self.start_steps > 0 {
             return self.starter_step(s, load);
         }
-        let dt = self.dt;
-        let t1 = self.state.t + dt;
+        let c = self.coefficients;
+        let t1 = self.state.t + self.dt;
         load(t1, &mut self.rhs);
-        let (u, [u1, u2]) = (&self.state.u, &self.back);
-        for i in 0..u.len() {
-            self.mass_part[i] = (5.0 * u[i] - 4.0 * u1[i] + u2[i]) / (dt * dt);
-            self.damping_part[i] = (3.0 * u[i] - 1.5 * u1[i] + u2[i] / 3.0) / dt;
-        }
-        s.add_mass_damping(&mut self.mass_part, &self.damping_part, &mut self.rhs);
+        let history = History {
+            vectors: [&self.state.u, &self.back[0], &self.back[1]],
+            mass: c.mass,
+            damping: c.damping,
+        };
+        s.add_history(
+            history,
+            &mut self.mass_part,
+            &mut self.damping_part,
+            &mut self.rhs,
+        );
         self.effective.solve(&mut self.rhs);
         // Rotate history: u_{n−2} ← u_{n−1} ← u_n ← u_{n+1}; rhs now holds u_{n+1}.
         let [b1, b2] = &mut self.back;
@@ -128,9 +168,13 @@ impl Integrator for Houbolt {
         std::mem::swap(&mut self.state.u, &mut self.rhs);
         let (u, [u1, u2], u3) = (&self.state.u, &self.back, &self.rhs);
         // Now u = u_{n+1}, u1 = u_n, u2 = u_{n−1}, u3 (old u_{n−2}, stale rhs) = u_{n−2}.
-        for i in 0..u.len() {
-            self.state.a[i] = (2.0 * u[i] - 5.0 * u1[i] + 4.0 * u2[i] - u3[i]) / (dt * dt);
-            self.state.v[i] = (11.0 * u[i] - 18.0 * u1[i] + 9.0 * u2[i] - 2.0 * u3[i]) / (6.0 * dt);
+        let (ca, cv) = (c.acceleration, c.velocity);
+        let rows = u.iter().zip(u1).zip(u2).zip(u3);
+        for ((a, v), (((&x0, &x1), &x2), &x3)) in
+            self.state.a.iter_mut().zip(&mut self.state.v).zip(rows)
+        {
+            *a = ca[0] * x0 + ca[1] * x1 + ca[2] * x2 + ca[3] * x3;
+            *v = cv[0] * x0 + cv[1] * x1 + cv[2] * x2 + cv[3] * x3;
         }
         self.state.t = t1;
         self.state.steps += 1;

@@ -9,7 +9,7 @@ use super::integrator::{
     check_dt, check_finite, consistent_acceleration, initial_state, Integrator, IntegratorKind,
     Load, State,
 };
-use super::structure::{Effective, Structure};
+use super::structure::{Effective, History, Structure};
 use crate::error::ModelError;
 
 /// Newmark average-acceleration integrator. See the module documentation.
@@ -57,15 +57,22 @@ impl Integrator for Newmark {
     }
 
     fn step(&mut self, s: &Structure, load: &mut Load<'_>) -> Result<(), ModelError> {
+        super::vector_state::clear();
         let dt = self.dt;
         let t1 = self.state.t + dt;
         load(t1, &mut self.rhs);
         let State { u, v, a, .. } = &mut self.state;
-        for i in 0..u.len() {
-            self.mass_part[i] = 4.0 / (dt * dt) * u[i] + 4.0 / dt * v[i] + a[i];
-            self.damping_part[i] = 2.0 / dt * u[i] + v[i];
-        }
-        s.add_mass_damping(&mut self.mass_part, &self.damping_part, &mut self.rhs);
+        let history = History {
+            vectors: [u, v, a],
+            mass: [4.0 / (dt * dt), 4.0 / dt, 1.0],
+            damping: [2.0 / dt, 1.0, 0.0],
+        };
+        s.add_history(
+            history,
+            &mut self.mass_part,
+            &mut self.damping_part,
+            &mut self.rhs,
+        );
         self.effective.solve(&mut self.rhs);
         for i in 0..u.len() {
             let a1 = 4.0 / (dt * dt) * (self.rhs[i] - u[i]) - 4.0 / dt * v[i] - a[i];

@@ -6,7 +6,8 @@ use faer::sparse::SparseColMatRef;
 use faer::MatRef;
 
 use super::cholesky::{Cholesky, Factorization};
-use crate::assembly::{mul_add, Assembler, Dirichlet};
+use super::product::SymmetricProduct;
+use crate::assembly::{Assembler, Dirichlet};
 use crate::error::{non_negative, ModelError};
 
 /// Rayleigh damping C = α M + β K (α in 1/s, β in s).
@@ -46,6 +47,8 @@ pub struct Structure {
     /// `Some(α)` when C = α M exactly: the history terms then need one product, not two.
     mass_proportional: Option<f64>,
     factorization: Factorization,
+    /// The products with K, M and C (all symmetric, on the reduced pattern).
+    product: SymmetricProduct,
 }
 
 impl Structure {
@@ -72,6 +75,7 @@ impl Structure {
             });
         }
         let mut s = Self {
+            product: SymmetricProduct::new(bc.symbolic().as_ref())?,
             k: vec![0.0; nnz],
             m: vec![0.0; nnz],
             c: vec![0.0; nnz],
@@ -206,9 +210,9 @@ impl Structure {
     /// out = f − C v − K u (the unbalanced force). Allocates nothing.
     pub fn residual(&self, f: &[f64], u: &[f64], v: &[f64], out: &mut [f64]) {
         out.copy_from_slice(f);
-        mul_add(self.stiffness(), u, -1.0, out);
+        self.product.mul_add(&self.k, u, -1.0, out);
         if self.damped {
-            mul_add(self.damping_matrix(), v, -1.0, out);
+            self.product.mul_add(&self.c, v, -1.0, out);
         }
     }
 
@@ -216,28 +220,52 @@ impl Structure {
     pub fn energy(&self, u: &[f64], v: &[f64], work: &mut [f64]) -> f64 {
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         work.fill(0.0);
-        mul_add(self.stiffness(), u, 1.0, work);
+        self.product.mul_add(&self.k, u, 1.0, work);
         let strain = dot(work, u);
         work.fill(0.0);
-        mul_add(self.mass(), v, 1.0, work);
+        self.product.mul_add(&self.m, v, 1.0, work);
         0.5 * (strain + dot(work, v))
     }
 }
 
+/// The history terms of an implicit scheme: out ← out + M Σ_k m_k h_k + C Σ_k c_k h_k over
+/// three history vectors h_k (Houbolt: u_n, u_{n−1}, u_{n−2}; Newmark: u_n, u̇_n, ü_n).
+#[derive(Debug, Clone, Copy)]
+pub struct History<'a> {
+    pub vectors: [&'a [f64]; 3],
+    pub mass: [f64; 3],
+    pub damping: [f64; 3],
+}
+
 impl Structure {
-    /// out ← out + M x_m + C x_c (the history terms of the implicit schemes). `x_m` is used
-    /// as scratch: when C = α M this is one product, M (x_m + α x_c).
-    pub fn add_mass_damping(&self, x_m: &mut [f64], x_c: &[f64], out: &mut [f64]) {
-        match self.mass_proportional {
+    /// out ← out + M x_m + C x_c for the history combinations x_m = Σ m_k h_k and
+    /// x_c = Σ c_k h_k, built in one pass into the scratch vectors. When C = α M this is one
+    /// product, M Σ (m_k + α c_k) h_k.
+    pub fn add_history(&self, h: History<'_>, x_m: &mut [f64], x_c: &mut [f64], out: &mut [f64]) {
+        let [h0, h1, h2] = h.vectors;
+        let [m0, m1, m2] = h.mass;
+        let [c0, c1, c2] = h.damping;
+        let alpha = match (self.mass_proportional, self.damped) {
+            (None, false) => Some(0.0),
+            (alpha, _) => alpha,
+        };
+        match alpha {
             Some(alpha) => {
-                x_m.iter_mut().zip(x_c).for_each(|(m, c)| *m += alpha * c);
-                mul_add(self.mass(), x_m, 1.0, out);
+                let k = [m0 + alpha * c0, m1 + alpha * c1, m2 + alpha * c2];
+                for (((x, a), b), c) in x_m.iter_mut().zip(h0).zip(h1).zip(h2) {
+                    *x = k[0] * a + k[1] * b + k[2] * c;
+                }
+                self.product.mul_add(&self.m, x_m, 1.0, out);
             }
             None => {
-                mul_add(self.mass(), x_m, 1.0, out);
-                if self.damped {
-                    mul_add(self.damping_matrix(), x_c, 1.0, out);
+                for ((((xm, xc), a), b), c) in
+                    x_m.iter_mut().zip(x_c.iter_mut()).zip(h0).zip(h1).zip(h2)
+                {
+                    *xm = m0 * a + m1 * b + m2 * c;
+                    *xc = c0 * a + c1 * b + c2 * c;
                 }
+                self.product.mul_add(&self.m, x_m, 1.0, out);
+                self.product.mul_add(&self.c, x_c, 1.0, out);
             }
         }
     }

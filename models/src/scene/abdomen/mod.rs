@@ -43,7 +43,7 @@ use super::{
 use crate::assembly::plane::PlaneProperties;
 use crate::budget;
 use crate::mesh::Mesh2d;
-use crate::solve::{IntegratorKind, ModalBasis};
+use crate::solve::{IntegratorKind, ModalBasis, Structure};
 
 /// Most substeps one communication step may take: a step that would need more is refused
 /// (it names `max_step` and h) instead of running for hours.
@@ -123,6 +123,14 @@ impl Abdomen {
     /// construction time), after initialization.
     pub fn modal_basis(&self) -> Option<&ModalBasis> {
         self.model.as_ref()?.modal.as_ref().map(|r| &r.basis)
+    }
+
+    /// The full-order equation of motion on the free dofs and the load of a unit pressing
+    /// force (N on each free dof per N/mm), after initialization — in every model order, for
+    /// solving the same system elsewhere (the peer benchmark exports it).
+    pub fn system(&self) -> Option<(&Structure, &[f64])> {
+        let m = self.model.as_ref()?;
+        Some((&m.structure, &m.unit_load))
     }
 
     /// Current simulation time (s).
