@@ -13,6 +13,7 @@ use harness::report::{
     verification,
 };
 use harness::studies::identify::Model;
+use harness::studies::peer;
 
 #[derive(Parser)]
 #[command(
@@ -92,6 +93,15 @@ enum Command {
     ModelOrder {
         #[arg(long, default_value = "report/model_order")]
         out: PathBuf,
+    },
+    /// The default abdomen's matrices, load and a Houbolt run for the peer benchmark
+    /// (benches/peer/run.sh), with this project's step, solve and factorization times on them
+    PeerExport {
+        #[arg(long, default_value = "target/peer")]
+        out: PathBuf,
+        /// Houbolt steps of the exported run (and solves timed)
+        #[arg(long, default_value_t = 2000)]
+        steps: usize,
     },
     /// One run of a scene in process, as a CSV of time and outputs (to standard output
     /// unless --out); inputs are sampled at the start of each communication step and held
@@ -176,6 +186,16 @@ fn run(cli: Cli) -> Result<Option<PathBuf>> {
         Command::Fields { out } => report::write(&out, "Fields", fields::section)?,
         Command::ModelOrder { out } => {
             report::write(&out, "Full against modal order", model_order::section)?
+        }
+        Command::PeerExport { out, steps } => {
+            let t = peer::export(&out, steps)?;
+            println!(
+                "Houbolt step {:.1} µs, solve {:.1} µs, factorization {:.2} ms (medians)",
+                t.step * 1e6,
+                t.solve * 1e6,
+                t.factor * 1e3
+            );
+            out
         }
         Command::Simulate {
             scene,

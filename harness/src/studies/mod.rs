@@ -7,12 +7,14 @@
 //! - [`speed_error`]: run time against error for the abdomen, and stability on hard cases;
 //! - [`cut_speed_error`]: run time against error for the cut block's models;
 //! - [`verification`]: the FE core and both scenes against analytical and seed results;
+//! - [`peer`]: the default abdomen's matrices and times for the peer benchmark (scipy, CHOLMOD);
 //! - [`fields`]: the displacement fields the reports draw and write for ParaView.
 
 pub mod cut_speed_error;
 pub mod fields;
 pub mod identify;
 pub mod measurements;
+pub mod peer;
 pub mod profiles;
 pub mod speed_error;
 pub mod verification;

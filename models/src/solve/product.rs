@@ -31,7 +31,11 @@ impl SymmetricProduct {
         let mut j = 0;
         while j < n {
             groups.push(j as u32);
-            j += if j + 1 < n && rows(j) == rows(j + 1) { 2 } else { 1 };
+            j += if j + 1 < n && rows(j) == rows(j + 1) {
+                2
+            } else {
+                1
+            };
         }
         groups.push(n as u32);
         Ok(Self { pattern, groups })
