@@ -8,6 +8,7 @@
 pub mod dirichlet;
 pub mod loads;
 pub mod plane;
+pub mod quadratic_plane;
 pub mod solid;
 
 pub use dirichlet::Dirichlet;

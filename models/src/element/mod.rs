@@ -13,5 +13,6 @@ pub mod solid;
 pub mod tet10;
 pub mod tet4;
 pub mod tri3;
+pub mod tri6;
 
 pub use material::{Elastic, Law, Material};

@@ -1,18 +1,22 @@
 //! Meshes: a 2D mesh of 3-node triangles plus 2-node line elements sharing its nodes
 //! ([`Mesh2d`]) and a 3D mesh of 4-node tetrahedra with its boundary faces ([`Mesh3d`]).
 //! Both validate on construction; both carry named node sets (supports, loads, landmarks).
-//! A [`QuadraticMesh`] adds mid-edge nodes to a 3D mesh for 10-node tetrahedra.
+//! A [`QuadraticMesh`] adds mid-edge nodes to a 3D mesh for 10-node tetrahedra, a
+//! [`QuadraticPlaneMesh`] to a 2D mesh for 6-node triangles.
 
 pub mod cut;
 pub mod generate;
+mod mid_edges;
 mod node_sets;
 mod plane;
 mod quadratic;
+mod quadratic_plane;
 mod solid;
 
 pub use node_sets::NodeSets;
 pub use plane::Mesh2d;
 pub use quadratic::QuadraticMesh;
+pub use quadratic_plane::QuadraticPlaneMesh;
 pub use solid::{BoundaryFace, Mesh3d};
 
 use crate::error::ModelError;

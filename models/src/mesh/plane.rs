@@ -106,6 +106,20 @@ impl Mesh2d {
         Ok(mesh)
     }
 
+    /// The same mesh with every node moved to `map(node)` (validated again: a map that
+    /// folds or flattens a triangle is an error); elements, regions and node sets are kept.
+    pub fn mapped(&self, map: impl Fn([f64; 2]) -> [f64; 2]) -> Result<Self, ModelError> {
+        let mut mesh = Self::new(
+            self.nodes.iter().map(|&p| map(p)).collect(),
+            self.triangles.clone(),
+            self.triangle_regions.clone(),
+            self.lines.clone(),
+            self.line_regions.clone(),
+        )?;
+        mesh.node_sets = self.node_sets.clone();
+        Ok(mesh)
+    }
+
     /// Adds a named node set (validated).
     pub fn add_node_set(&mut self, name: &str, nodes: Vec<usize>) -> Result<(), ModelError> {
         self.node_sets.insert(name, nodes, self.nodes.len())

@@ -7,6 +7,7 @@
 
 use std::collections::HashMap;
 
+use super::mid_edges::MidEdges;
 use super::Mesh3d;
 use crate::element::tet10::EDGES;
 
@@ -15,19 +16,14 @@ use crate::element::tet10::EDGES;
 pub struct QuadraticMesh {
     nodes: Vec<[f64; 3]>,
     tets: Vec<[usize; 10]>,
-    /// Corner pair (smaller index first) → mid-edge node.
-    mid: HashMap<(usize, usize), usize>,
-}
-
-fn key(a: usize, b: usize) -> (usize, usize) {
-    (a.min(b), a.max(b))
+    mid: MidEdges,
 }
 
 impl QuadraticMesh {
     /// Adds the mid-edge nodes of `mesh`.
     pub fn new(mesh: &Mesh3d) -> Self {
         let mut nodes = mesh.nodes().to_vec();
-        let mut mid = HashMap::with_capacity(7 * nodes.len());
+        let mut mid = MidEdges::with_capacity(7 * nodes.len());
         let tets = mesh
             .tets()
             .iter()
@@ -35,12 +31,7 @@ impl QuadraticMesh {
                 let mut q = [0; 10];
                 q[..4].copy_from_slice(t);
                 for (k, [i, j]) in EDGES.iter().enumerate() {
-                    let (a, b) = (t[*i], t[*j]);
-                    q[4 + k] = *mid.entry(key(a, b)).or_insert_with(|| {
-                        let (p, r) = (nodes[a], nodes[b]);
-                        nodes.push([0, 1, 2].map(|d| 0.5 * (p[d] + r[d])));
-                        nodes.len() - 1
-                    });
+                    q[4 + k] = mid.node(t[*i], t[*j], &mut nodes);
                 }
                 q
             })
@@ -58,23 +49,13 @@ impl QuadraticMesh {
 
     /// The mid-edge node between corners `a` and `b`, if they share an edge.
     pub fn mid(&self, a: usize, b: usize) -> Option<usize> {
-        self.mid.get(&key(a, b)).copied()
+        self.mid.get(a, b)
     }
 
     /// A set of corner nodes with the mid-edge nodes of the edges between them (a node set of
     /// a planar face stays the nodes on that face).
     pub fn extend(&self, corners: &[usize]) -> Vec<usize> {
-        let inside: std::collections::HashSet<usize> = corners.iter().copied().collect();
-        let mut out = corners.to_vec();
-        let mut mids: Vec<usize> = self
-            .mid
-            .iter()
-            .filter(|((a, b), _)| inside.contains(a) && inside.contains(b))
-            .map(|(_, &m)| m)
-            .collect();
-        mids.sort_unstable();
-        out.extend(mids);
-        out
+        self.mid.extend(corners)
     }
 
     /// Pairs of nodes facing each other across a cut, from the corner pairs: the corner
@@ -97,7 +78,7 @@ impl QuadraticMesh {
             .mid
             .iter()
             .filter(|((a, b), _)| front_flank.contains(a) || front_flank.contains(b))
-            .filter_map(|(&(a, b), &m)| {
+            .filter_map(|((a, b), m)| {
                 let other = self.mid(*twin.get(&a)?, *twin.get(&b)?)?;
                 (other != m).then_some((m, other))
             })
@@ -122,6 +103,7 @@ mod tests {
     use super::*;
     use crate::mesh::cut::{split, Incision};
     use crate::mesh::generate;
+    use crate::mesh::mid_edges::key;
 
     #[test]
     fn mid_edge_nodes_sit_at_midpoints_and_are_shared_by_neighbours() {

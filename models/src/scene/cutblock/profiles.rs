@@ -13,6 +13,7 @@
 
 use super::geometry::Geometry;
 use super::topology::face_traction;
+use crate::element::tri6;
 use crate::mesh::{Mesh3d, QuadraticMesh};
 
 /// Sample spacing of the reference top face along x and y (mm).
@@ -269,15 +270,9 @@ fn barycentric(nodes: &[[f64; 3]], face: &[usize], x: f64, y: f64) -> Option<[f6
 /// or the quadratic triangle's six.
 fn shape(l: &[f64; 3], quadratic: bool) -> [f64; 6] {
     let [a, b, c] = *l;
-    if !quadratic {
-        return [a, b, c, 0.0, 0.0, 0.0];
+    if quadratic {
+        tri6::shape(*l)
+    } else {
+        [a, b, c, 0.0, 0.0, 0.0]
     }
-    [
-        a * (2.0 * a - 1.0),
-        b * (2.0 * b - 1.0),
-        c * (2.0 * c - 1.0),
-        4.0 * a * b,
-        4.0 * b * c,
-        4.0 * c * a,
-    ]
 }

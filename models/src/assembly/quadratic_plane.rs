@@ -1,0 +1,56 @@
+//! Global matrices of a mesh of 6-node plane-strain triangles ([`crate::element::tri6`]),
+//! properties per region tag as for the linear mesh ([`super::plane::PlaneProperties`]), in
+//! the displacement or the mixed P2/P0 formulation.
+
+use super::plane::PlaneProperties;
+use super::Assembler;
+use crate::element::tri6;
+use crate::mesh::QuadraticPlaneMesh;
+
+/// How the 6-node triangle treats the volumetric strain (see [`crate::element::tri6`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Formulation {
+    /// ∫ Bᵀ D B dA: locks mildly as ν → 0.5.
+    Displacement,
+    /// An element-wise constant pressure condensed at element level: no locking.
+    Mixed,
+}
+
+/// The assembler of the mesh's triangles.
+pub fn assembler(mesh: &QuadraticPlaneMesh) -> Assembler {
+    Assembler::new(mesh.nodes().len(), 2, mesh.triangles())
+}
+
+/// Writes the stiffness matrix into `values` (overwriting).
+pub fn stiffness(
+    mesh: &QuadraticPlaneMesh,
+    asm: &Assembler,
+    props: &PlaneProperties,
+    formulation: Formulation,
+    values: &mut [f64],
+) {
+    values.fill(0.0);
+    for (i, &r) in mesh.triangle_regions().iter().enumerate() {
+        let elastic = &props.continua[usize::from(r)].elastic;
+        let p = mesh.triangle(i);
+        let k = match formulation {
+            Formulation::Displacement => tri6::stiffness(&p, &elastic.plane_strain()),
+            Formulation::Mixed => tri6::stiffness_mixed(&p, elastic),
+        };
+        asm.add(values, i, &k);
+    }
+}
+
+/// Writes the consistent mass matrix into `values` (overwriting).
+pub fn mass(
+    mesh: &QuadraticPlaneMesh,
+    asm: &Assembler,
+    props: &PlaneProperties,
+    values: &mut [f64],
+) {
+    values.fill(0.0);
+    for (i, &r) in mesh.triangle_regions().iter().enumerate() {
+        let rho = props.continua[usize::from(r)].density;
+        asm.add(values, i, &tri6::mass_consistent(&mesh.triangle(i), rho));
+    }
+}

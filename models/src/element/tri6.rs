@@ -1,0 +1,285 @@
+//! Plane-strain 6-node triangle (quadratic, isoparametric), unit thickness. Corner nodes 0, 1,
+//! 2 counter-clockwise, mid-edge nodes 3 (edge 0–1), 4 (edge 1–2), 5 (edge 2–0). Shape
+//! functions in area coordinates (L₀, L₁, L₂): N_i = L_i (2 L_i − 1) at the corners,
+//! N = 4 L_i L_j at the mid-edge nodes (Zienkiewicz & Taylor, The Finite Element Method,
+//! vol. 1, §8.8); mid-edge nodes off the straight edge give curved edges.
+//!
+//! Two formulations of the stiffness:
+//!
+//! - **displacement** ([`stiffness`]): ∫ Bᵀ D B dA with the 3-point rule, exact for straight
+//!   edges (the integrand is of degree 2);
+//! - **mixed P2/P0** ([`stiffness_mixed`]): an element-wise constant pressure, condensed at
+//!   element level. With the split D = D_dev + κ m mᵀ (κ = λ + 2μ/3 the bulk modulus,
+//!   m = (1, 1, 0), D_dev the deviatoric part of the 3D law restricted to ε_zz = 0), the
+//!   volumetric term sees only the element's mean volumetric strain θ̄ = g·u / A with
+//!   g = ∫ Bᵀ m dA: K = ∫ Bᵀ D_dev B dA + (κ / A) g gᵀ, and the pressure is p = κ θ̄. This is
+//!   the Herrmann-type u–p element with discontinuous constant pressure (mean dilatation,
+//!   Nagtegaal, Parks & Rice 1974): one volumetric constraint per element instead of one per
+//!   quadrature point, so it does not lock as ν → 0.5, and K stays symmetric positive
+//!   definite — the factorization and the integrators are unchanged.
+
+use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector3};
+
+use super::Elastic;
+
+/// Element displacement vector (u_x0, u_y0, …, u_x5, u_y5).
+pub type Dofs = SVector<f64, 12>;
+/// Strain–displacement matrix for (ε_xx, ε_yy, γ_xy).
+pub type BMatrix = SMatrix<f64, 3, 12>;
+/// A quadrature point: area coordinates and a weight (the weights sum to 1; multiply by the
+/// area).
+pub type Point = ([f64; 3], f64);
+
+/// Corners of each edge, in the order of the mid-edge nodes 3, 4, 5.
+pub const EDGES: [[usize; 2]; 3] = [[0, 1], [1, 2], [2, 0]];
+
+/// The 3-point rule at the edge midpoints' interior images (Strang & Fix), exact for degree 2.
+pub const TRI_3: [Point; 3] = [
+    ([2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0], 1.0 / 3.0),
+    ([1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0], 1.0 / 3.0),
+    ([1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0], 1.0 / 3.0),
+];
+
+/// The 6-point rule of Dunavant (1985), exact for degree 4 (the consistent mass NᵀN).
+pub const TRI_6: [Point; 6] = {
+    const A: f64 = 0.445_948_490_915_965;
+    const WA: f64 = 0.223_381_589_678_011;
+    const B: f64 = 0.091_576_213_509_771;
+    const WB: f64 = 0.109_951_743_655_322;
+    [
+        ([1.0 - 2.0 * A, A, A], WA),
+        ([A, 1.0 - 2.0 * A, A], WA),
+        ([A, A, 1.0 - 2.0 * A], WA),
+        ([1.0 - 2.0 * B, B, B], WB),
+        ([B, 1.0 - 2.0 * B, B], WB),
+        ([B, B, 1.0 - 2.0 * B], WB),
+    ]
+};
+
+/// The shape functions at area coordinates `l`.
+pub fn shape(l: [f64; 3]) -> [f64; 6] {
+    let [a, b, c] = l;
+    [
+        a * (2.0 * a - 1.0),
+        b * (2.0 * b - 1.0),
+        c * (2.0 * c - 1.0),
+        4.0 * a * b,
+        4.0 * b * c,
+        4.0 * c * a,
+    ]
+}
+
+/// ∂N/∂(ξ, η) with ξ = L₁, η = L₂ (so L₀ = 1 − ξ − η).
+fn reference_gradients(l: [f64; 3]) -> [[f64; 2]; 6] {
+    let [a, b, c] = l;
+    let da = 1.0 - 4.0 * a; // ∂N₀/∂ξ = ∂N₀/∂η = (4L₀ − 1)·(−1)
+    [
+        [da, da],
+        [4.0 * b - 1.0, 0.0],
+        [0.0, 4.0 * c - 1.0],
+        [4.0 * (a - b), -4.0 * b],
+        [4.0 * c, 4.0 * b],
+        [-4.0 * c, 4.0 * (a - c)],
+    ]
+}
+
+/// B at area coordinates `l` and the Jacobian determinant there (twice the area of a
+/// straight-sided element; positive for counter-clockwise corners).
+pub fn b_matrix(p: &[[f64; 2]; 6], l: [f64; 3]) -> (BMatrix, f64) {
+    let g = reference_gradients(l);
+    let mut j = Matrix2::zeros();
+    for (gi, pi) in g.iter().zip(p) {
+        for r in 0..2 {
+            for c in 0..2 {
+                j[(r, c)] += gi[r] * pi[c];
+            }
+        }
+    }
+    let det = j.determinant();
+    let inv = j.try_inverse().unwrap_or_else(Matrix2::zeros);
+    let mut b = BMatrix::zeros();
+    for (i, gi) in g.iter().enumerate() {
+        let dx = inv[(0, 0)] * gi[0] + inv[(0, 1)] * gi[1];
+        let dy = inv[(1, 0)] * gi[0] + inv[(1, 1)] * gi[1];
+        b[(0, 2 * i)] = dx;
+        b[(1, 2 * i + 1)] = dy;
+        b[(2, 2 * i)] = dy;
+        b[(2, 2 * i + 1)] = dx;
+    }
+    (b, det)
+}
+
+/// Area ∫ dA (exact for straight edges and for parabolic edges, whose det J is linear).
+pub fn area(p: &[[f64; 2]; 6]) -> f64 {
+    TRI_3.iter().map(|&(l, w)| 0.5 * w * b_matrix(p, l).1).sum()
+}
+
+/// Displacement-formulation stiffness ∫ Bᵀ D B dA (3-point rule).
+pub fn stiffness(p: &[[f64; 2]; 6], d: &Matrix3<f64>) -> SMatrix<f64, 12, 12> {
+    TRI_3.iter().fold(SMatrix::zeros(), |k, &(l, w)| {
+        let (b, det) = b_matrix(p, l);
+        k + b.transpose() * d * b * (0.5 * w * det)
+    })
+}
+
+/// The deviatoric part of the plane-strain law, 2μ (I − ⅓ m mᵀ) on the normal strains and μ
+/// on the shear strain, and the bulk modulus κ = λ + 2μ/3: D = D_dev + κ m mᵀ.
+pub fn split(elastic: &Elastic) -> (Matrix3<f64>, f64) {
+    let mu = elastic.shear();
+    let (a, b) = (4.0 * mu / 3.0, -2.0 * mu / 3.0);
+    let dev = Matrix3::new(a, b, 0.0, b, a, 0.0, 0.0, 0.0, mu);
+    (dev, elastic.lambda() + 2.0 * mu / 3.0)
+}
+
+/// g = ∫ Bᵀ m dA, the element's volume change per nodal displacement: θ̄ = g·u / A.
+pub fn dilatation(p: &[[f64; 2]; 6]) -> (Dofs, f64) {
+    let m = Vector3::new(1.0, 1.0, 0.0);
+    TRI_3.iter().fold((Dofs::zeros(), 0.0), |(g, a), &(l, w)| {
+        let (b, det) = b_matrix(p, l);
+        (g + b.transpose() * m * (0.5 * w * det), a + 0.5 * w * det)
+    })
+}
+
+/// Mixed P2/P0 stiffness ∫ Bᵀ D_dev B dA + (κ / A) g gᵀ (see the module documentation).
+pub fn stiffness_mixed(p: &[[f64; 2]; 6], elastic: &Elastic) -> SMatrix<f64, 12, 12> {
+    let (dev, kappa) = split(elastic);
+    let (g, a) = dilatation(p);
+    stiffness(p, &dev) + g * g.transpose() * (kappa / a)
+}
+
+/// Consistent mass ρ ∫ Nᵀ N dA ⊗ I₂ (6-point rule, exact for straight and parabolic edges'
+/// polynomial part).
+pub fn mass_consistent(p: &[[f64; 2]; 6], density: f64) -> SMatrix<f64, 12, 12> {
+    let mut mass = SMatrix::<f64, 12, 12>::zeros();
+    for &(l, w) in &TRI_6 {
+        let n = shape(l);
+        let scale = density * 0.5 * w * b_matrix(p, l).1;
+        for i in 0..6 {
+            for j in 0..6 {
+                let v = scale * n[i] * n[j];
+                mass[(2 * i, 2 * j)] += v;
+                mass[(2 * i + 1, 2 * j + 1)] += v;
+            }
+        }
+    }
+    mass
+}
+
+/// The corners of a straight-sided element with its mid-edge nodes at the midpoints.
+pub fn straight(corners: &[[f64; 2]; 3]) -> [[f64; 2]; 6] {
+    let mid = |[a, b]: [usize; 2]| {
+        [
+            0.5 * (corners[a][0] + corners[b][0]),
+            0.5 * (corners[a][1] + corners[b][1]),
+        ]
+    };
+    [
+        corners[0],
+        corners[1],
+        corners[2],
+        mid(EDGES[0]),
+        mid(EDGES[1]),
+        mid(EDGES[2]),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn element() -> [[f64; 2]; 6] {
+        straight(&[[0.3, 0.1], [2.1, 0.4], [0.9, 1.7]])
+    }
+
+    #[test]
+    fn the_shape_functions_are_a_partition_of_unity_and_interpolate_the_nodes() {
+        let nodes = [
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.5, 0.5, 0.0],
+            [0.0, 0.5, 0.5],
+            [0.5, 0.0, 0.5],
+        ];
+        for (i, l) in nodes.iter().enumerate() {
+            let n = shape(*l);
+            for (j, v) in n.iter().enumerate() {
+                assert!((v - f64::from(u8::from(i == j))).abs() < 1e-15);
+            }
+        }
+        for &(l, _) in &TRI_6 {
+            assert!((shape(l).iter().sum::<f64>() - 1.0).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn quadratic_displacements_give_their_exact_strains() {
+        // u = (x² + 2xy, 3y² − x) has ε_xx = 2x + 2y, ε_yy = 6y, γ_xy = 2x − 1.
+        let p = element();
+        let u: Dofs = Dofs::from_fn(|k, _| {
+            let [x, y] = p[k / 2];
+            if k.is_multiple_of(2) {
+                x * x + 2.0 * x * y
+            } else {
+                3.0 * y * y - x
+            }
+        });
+        for &(l, _) in &TRI_6 {
+            let n = shape(l);
+            let x = (0..6).map(|i| n[i] * p[i][0]).sum::<f64>();
+            let y = (0..6).map(|i| n[i] * p[i][1]).sum::<f64>();
+            let eps = b_matrix(&p, l).0 * u;
+            let exact = [2.0 * x + 2.0 * y, 6.0 * y, 2.0 * x - 1.0];
+            for (e, x) in eps.iter().zip(exact) {
+                assert!((e - x).abs() < 1e-12, "{e} {x}");
+            }
+        }
+    }
+
+    #[test]
+    fn rigid_motions_are_stress_free_and_the_mass_sums_to_the_element_mass() {
+        let p = element();
+        let elastic = Elastic::new("m", 3.0, 0.4999).unwrap();
+        let d = elastic.plane_strain();
+        let rigid = |k: usize| -> f64 {
+            let [x, y] = p[k / 2];
+            if k.is_multiple_of(2) {
+                0.2 - 0.7 * y
+            } else {
+                -0.4 + 0.7 * x
+            }
+        };
+        let u = Dofs::from_fn(|k, _| rigid(k));
+        for k in [stiffness(&p, &d), stiffness_mixed(&p, &elastic)] {
+            assert!((k * u).amax() < 1e-12 * k.amax());
+            assert!((k - k.transpose()).amax() < 1e-12 * k.amax());
+        }
+        let a = area(&p);
+        let straight_area = 0.5 * ((2.1 - 0.3) * (1.7 - 0.1) - (0.9 - 0.3) * (0.4 - 0.1));
+        assert!((a - straight_area).abs() < 1e-14);
+        let m = mass_consistent(&p, 2.0);
+        assert!((m.sum() - 2.0 * 2.0 * a).abs() < 1e-13);
+    }
+
+    #[test]
+    fn the_split_law_adds_up_to_the_plane_strain_law() {
+        let elastic = Elastic::new("m", 7.0, 0.3).unwrap();
+        let (dev, kappa) = split(&elastic);
+        let m = Vector3::new(1.0, 1.0, 0.0);
+        let d = dev + m * m.transpose() * kappa;
+        assert!((d - elastic.plane_strain()).amax() < 1e-13 * d.amax());
+        // For a straight-sided element at moderate ν the two formulations differ only in
+        // how the volumetric strain is averaged: equal on a constant-strain motion.
+        let p = element();
+        let u = Dofs::from_fn(|k, _| {
+            let [x, y] = p[k / 2];
+            if k.is_multiple_of(2) {
+                0.01 * x + 0.003 * y
+            } else {
+                -0.002 * y
+            }
+        });
+        let (k1, k2) = (stiffness(&p, &d), stiffness_mixed(&p, &elastic));
+        assert!((k1 * u - k2 * u).amax() < 1e-13 * (k1 * u).amax());
+    }
+}

@@ -1,0 +1,102 @@
+//! Quadratic triangles on a linear 2D mesh: the 6-node triangles of
+//! [`crate::element::tri6`] (corners, then the mid-edge nodes of edges 0–1, 1–2, 2–0) with
+//! the mid-edge nodes at the edge midpoints ([`super::mid_edges`]); the triangle regions
+//! carry over.
+
+use super::mid_edges::MidEdges;
+use super::Mesh2d;
+use crate::element::tri6::EDGES;
+
+/// A mesh of 6-node triangles derived from a [`Mesh2d`].
+#[derive(Debug, Clone)]
+pub struct QuadraticPlaneMesh {
+    nodes: Vec<[f64; 2]>,
+    triangles: Vec<[usize; 6]>,
+    regions: Vec<u16>,
+    mid: MidEdges,
+}
+
+impl QuadraticPlaneMesh {
+    /// Adds the mid-edge nodes of `mesh` (its line elements are not carried over).
+    pub fn new(mesh: &Mesh2d) -> Self {
+        let mut nodes = mesh.nodes().to_vec();
+        let mut mid = MidEdges::with_capacity(3 * nodes.len());
+        let triangles = mesh
+            .triangles()
+            .iter()
+            .map(|t| {
+                let mut q = [t[0], t[1], t[2], 0, 0, 0];
+                for (k, [i, j]) in EDGES.iter().enumerate() {
+                    q[3 + k] = mid.node(t[*i], t[*j], &mut nodes);
+                }
+                q
+            })
+            .collect();
+        Self {
+            nodes,
+            triangles,
+            regions: mesh.triangle_regions().to_vec(),
+            mid,
+        }
+    }
+
+    pub fn nodes(&self) -> &[[f64; 2]] {
+        &self.nodes
+    }
+
+    pub fn triangles(&self) -> &[[usize; 6]] {
+        &self.triangles
+    }
+
+    pub fn triangle_regions(&self) -> &[u16] {
+        &self.regions
+    }
+
+    /// Coordinates of the six nodes of triangle `i`.
+    pub fn triangle(&self, i: usize) -> [[f64; 2]; 6] {
+        self.triangles[i].map(|n| self.nodes[n])
+    }
+
+    /// Two displacement dofs per node.
+    pub fn n_dofs(&self) -> usize {
+        2 * self.nodes.len()
+    }
+
+    /// The mid-edge node between corners `a` and `b`, if they share an edge.
+    pub fn mid(&self, a: usize, b: usize) -> Option<usize> {
+        self.mid.get(a, b)
+    }
+
+    /// A set of corner nodes with the mid-edge nodes of the edges between them (a node set
+    /// on a straight boundary stays the nodes on it).
+    pub fn extend(&self, corners: &[usize]) -> Vec<usize> {
+        self.mid.extend(corners)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::element::tri6;
+    use crate::mesh::generate;
+
+    #[test]
+    fn mid_edge_nodes_sit_at_midpoints_shared_by_neighbours() {
+        let m = generate::rectangle(3.0, 2.0, 3, 2).unwrap();
+        let q = QuadraticPlaneMesh::new(&m);
+        // Edges of a 3 × 2 grid of cells with one diagonal each: 3·3 + 4·2 + 6 = 23.
+        assert_eq!(q.nodes().len(), m.nodes().len() + 23);
+        let mut area = 0.0;
+        for i in 0..q.triangles().len() {
+            let p = q.triangle(i);
+            let corners = [p[0], p[1], p[2]];
+            assert_eq!(p, tri6::straight(&corners));
+            area += tri6::area(&p);
+        }
+        assert!((area - 6.0).abs() < 1e-12);
+        let left = m.node_sets().get("left").unwrap();
+        let extended = q.extend(left);
+        assert_eq!(extended.len(), 2 * left.len() - 1);
+        assert!(extended.iter().all(|&n| q.nodes()[n][0] == 0.0));
+    }
+}
