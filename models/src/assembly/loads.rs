@@ -1,4 +1,5 @@
-//! Consistent nodal loads (Neumann boundary conditions and body forces) for linear elements:
+//! Consistent nodal loads (Neumann boundary conditions and body forces) for linear elements
+//! (and a pressure on the quadratic triangle's edges):
 //! the work-equivalent nodal forces f_a = ∫ N_a t dΓ of a traction t that varies linearly
 //! along an edge or is constant over a face or element.
 
@@ -33,6 +34,28 @@ pub fn edge_pressure(nodes: &[[f64; 2]], edge: [usize; 2], p: f64, f: &mut [f64]
     let len = dx.hypot(dy);
     let t = [-p * dy / len, p * dx / len];
     edge_traction(nodes, edge, t, t, f);
+}
+
+/// Adds the consistent nodal forces of a uniform pressure `p` (as [`edge_pressure`]) on the
+/// quadratic edge a → m → b (m its mid-edge node, possibly off the chord: a parabolic edge):
+/// f_i = ∫ N_i p (−t_y, t_x) dξ over ξ ∈ [0, 1] with N_a = (1 − ξ)(1 − 2ξ), N_m = 4ξ(1 − ξ),
+/// N_b = ξ(2ξ − 1) and t = dx/dξ; the integrand is a cubic, so two Gauss points are exact.
+pub fn quadratic_edge_pressure(nodes: &[[f64; 2]], edge: [usize; 3], p: f64, f: &mut [f64]) {
+    let g = 0.5 / 3f64.sqrt();
+    for xi in [0.5 - g, 0.5 + g] {
+        let n = [
+            (1.0 - xi) * (1.0 - 2.0 * xi),
+            4.0 * xi * (1.0 - xi),
+            xi * (2.0 * xi - 1.0),
+        ];
+        let dn = [4.0 * xi - 3.0, 4.0 - 8.0 * xi, 4.0 * xi - 1.0];
+        let t = [0, 1].map(|d| (0..3).map(|k| dn[k] * nodes[edge[k]][d]).sum::<f64>());
+        for (k, &node) in edge.iter().enumerate() {
+            // Weight 1/2 per Gauss point on [0, 1].
+            f[2 * node] += 0.5 * n[k] * p * -t[1];
+            f[2 * node + 1] += 0.5 * n[k] * p * t[0];
+        }
+    }
 }
 
 /// Adds the consistent nodal forces of a uniform traction `t` (MPa) on triangle face
@@ -81,5 +104,23 @@ mod tests {
         // Normal of (0,1,2) is +z, so pressure pushes along −z with total 2·area = 4.
         face_pressure(&n3, [0, 1, 2], 2.0, &mut f3);
         assert!((f3[2] + f3[5] + f3[8] + 4.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn quadratic_edge_pressure_has_simpsons_weights_and_the_chords_resultant() {
+        // Straight: the bottom edge (0,0) → (3,0) with its midpoint, interior above.
+        let nodes = [[0.0, 0.0], [1.5, 0.0], [3.0, 0.0]];
+        let mut f = vec![0.0; 6];
+        quadratic_edge_pressure(&nodes, [0, 1, 2], 2.0, &mut f);
+        for (k, w) in [1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0].iter().enumerate() {
+            assert!(f[2 * k].abs() < 1e-15 && (f[2 * k + 1] - 6.0 * w).abs() < 1e-14);
+        }
+        // Curved: a uniform pressure's resultant on any curve is p times the chord turned
+        // by 90°, here (0,0) → (2,1) through (1.3, −0.4): p (−Δy, Δx).
+        let nodes = [[0.0, 0.0], [1.3, -0.4], [2.0, 1.0]];
+        let mut f = vec![0.0; 6];
+        quadratic_edge_pressure(&nodes, [0, 1, 2], 0.5, &mut f);
+        let resultant = [f[0] + f[2] + f[4], f[1] + f[3] + f[5]];
+        assert!((resultant[0] + 0.5).abs() < 1e-14 && (resultant[1] - 1.0).abs() < 1e-14);
     }
 }

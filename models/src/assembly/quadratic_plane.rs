@@ -5,16 +5,8 @@
 use super::plane::PlaneProperties;
 use super::Assembler;
 use crate::element::tri6;
+pub use crate::element::tri6::Formulation;
 use crate::mesh::QuadraticPlaneMesh;
-
-/// How the 6-node triangle treats the volumetric strain (see [`crate::element::tri6`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Formulation {
-    /// ∫ Bᵀ D B dA: locks mildly as ν → 0.5.
-    Displacement,
-    /// An element-wise constant pressure condensed at element level: no locking.
-    Mixed,
-}
 
 /// The assembler of the mesh's triangles.
 pub fn assembler(mesh: &QuadraticPlaneMesh) -> Assembler {
@@ -32,11 +24,7 @@ pub fn stiffness(
     values.fill(0.0);
     for (i, &r) in mesh.triangle_regions().iter().enumerate() {
         let elastic = &props.continua[usize::from(r)].elastic;
-        let p = mesh.triangle(i);
-        let k = match formulation {
-            Formulation::Displacement => tri6::stiffness(&p, &elastic.plane_strain()),
-            Formulation::Mixed => tri6::stiffness_mixed(&p, elastic),
-        };
+        let k = tri6::stiffness_in(formulation, &mesh.triangle(i), elastic);
         asm.add(values, i, &k);
     }
 }

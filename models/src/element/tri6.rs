@@ -165,6 +165,47 @@ pub fn mass_consistent(p: &[[f64; 2]; 6], density: f64) -> SMatrix<f64, 12, 12> 
     mass
 }
 
+/// How the 6-node triangle treats the volumetric strain (see the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Formulation {
+    /// ∫ Bᵀ D B dA: locks mildly as ν → 0.5.
+    Displacement,
+    /// An element-wise constant pressure condensed at element level: no locking.
+    Mixed,
+}
+
+/// The stiffness in `formulation`.
+pub fn stiffness_in(
+    formulation: Formulation,
+    p: &[[f64; 2]; 6],
+    elastic: &Elastic,
+) -> SMatrix<f64, 12, 12> {
+    match formulation {
+        Formulation::Displacement => stiffness(p, &elastic.plane_strain()),
+        Formulation::Mixed => stiffness_mixed(p, elastic),
+    }
+}
+
+/// Stress (σ_xx, σ_yy, σ_xy) at area coordinates `l` for the element displacements `u`:
+/// D ε, or for the mixed element D_dev ε + p m with the element's pressure p = κ θ̄.
+pub fn stress(
+    formulation: Formulation,
+    p: &[[f64; 2]; 6],
+    l: [f64; 3],
+    u: &Dofs,
+    elastic: &Elastic,
+) -> Vector3<f64> {
+    let strain = b_matrix(p, l).0 * u;
+    match formulation {
+        Formulation::Displacement => elastic.plane_strain() * strain,
+        Formulation::Mixed => {
+            let (dev, kappa) = split(elastic);
+            let (g, a) = dilatation(p);
+            dev * strain + Vector3::new(1.0, 1.0, 0.0) * (kappa * g.dot(u) / a)
+        }
+    }
+}
+
 /// The corners of a straight-sided element with its mid-edge nodes at the midpoints.
 pub fn straight(corners: &[[f64; 2]; 3]) -> [[f64; 2]; 6] {
     let mid = |[a, b]: [usize; 2]| {

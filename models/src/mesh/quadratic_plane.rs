@@ -67,6 +67,16 @@ impl QuadraticPlaneMesh {
         self.mid.get(a, b)
     }
 
+    /// Moves the mid-edge node of every edge between two nodes of `corners` to `onto(mid)`,
+    /// e.g. onto the arc the corners lie on, so that the edge is the parabola through the
+    /// three (isoparametric curved edges).
+    pub fn curve(&mut self, corners: &[usize], onto: impl Fn([f64; 2]) -> [f64; 2]) {
+        let n_corners = corners.len();
+        for &m in &self.mid.extend(corners)[n_corners..] {
+            self.nodes[m] = onto(self.nodes[m]);
+        }
+    }
+
     /// A set of corner nodes with the mid-edge nodes of the edges between them (a node set
     /// on a straight boundary stays the nodes on it).
     pub fn extend(&self, corners: &[usize]) -> Vec<usize> {

@@ -1,12 +1,14 @@
 //! Lamé's thick-walled cylinder under internal pressure, plane strain (Timoshenko & Goodier,
 //! Theory of Elasticity, §28): u_r(r) = (1+ν) p a² / (E (b² − a²)) · ((1 − 2ν) r + b²/r).
-//! Solved on a quarter annulus with symmetry supports; the L2 displacement error is
-//! integrated with a 3-point rule of degree 2 per triangle.
+//! Solved on a quarter annulus with symmetry supports, with linear triangles (L2 displacement
+//! error integrated with a 3-point rule of degree 2 per triangle) or 6-node triangles whose
+//! mid-edge nodes on the arcs lie on the arcs (errors integrated with the 6-point rule).
 
-use crate::assembly::{loads, plane, Assembler};
+use crate::assembly::{loads, plane, quadratic_plane, Assembler};
+use crate::element::tri6::{self, Formulation};
 use crate::element::{tri3, Elastic};
 use crate::error::ModelError;
-use crate::mesh::{generate, Mesh2d};
+use crate::mesh::{generate, Mesh2d, QuadraticPlaneMesh};
 use crate::solve::{Factorization, Statics};
 
 /// The problem data: radii a < b (mm), pressure p (MPa), material.
@@ -25,8 +27,9 @@ pub struct LameSolution {
     pub dofs: usize,
     /// ‖u_h − u‖_L2 / ‖u‖_L2.
     pub l2_error: f64,
-    /// Area-weighted RMS error of the element stresses (σxx, σyy, σxy at the centroid)
-    /// relative to the RMS of the exact stress.
+    /// Area-weighted RMS error of the stresses (σxx, σyy, σxy) relative to the RMS of the
+    /// exact stress: at the centroid for linear triangles, at the six quadrature points of
+    /// [`tri6::TRI_6`] for quadratic ones.
     pub stress_error: f64,
     /// FE radial displacement at (a, 0) and the exact value.
     pub inner_fe: f64,
@@ -81,6 +84,91 @@ impl Lame {
             inner_fe: u[2 * inner[0]],
             inner_exact: self.radial(self.a),
         })
+    }
+
+    /// Solves with 6-node triangles in `formulation` on the `nr` × `nt` mesh, the mid-edge
+    /// nodes of the arcs moved onto the arcs.
+    pub fn solve_quadratic(
+        &self,
+        nr: usize,
+        nt: usize,
+        formulation: Formulation,
+    ) -> Result<LameSolution, ModelError> {
+        let mesh = generate::quarter_annulus(self.a, self.b, nr, nt)?;
+        let sets = mesh.node_sets();
+        let mut q = QuadraticPlaneMesh::new(&mesh);
+        for (set, radius) in [("inner", self.a), ("outer", self.b)] {
+            q.curve(sets.get(set)?, |[x, y]| {
+                let r = x.hypot(y);
+                [x * radius / r, y * radius / r]
+            });
+        }
+        let props = plane::PlaneProperties {
+            continua: vec![plane::Continuum {
+                elastic: self.material,
+                density: 1e-9,
+            }],
+            trusses: vec![],
+        };
+        let asm = quadratic_plane::assembler(&q);
+        let mut k = asm.zeros();
+        quadratic_plane::stiffness(&q, &asm, &props, formulation, &mut k);
+        let mut fixed: Vec<usize> = q
+            .extend(sets.get("x_axis")?)
+            .iter()
+            .map(|n| 2 * n + 1)
+            .collect();
+        fixed.extend(q.extend(sets.get("y_axis")?).iter().map(|n| 2 * n));
+        let mut f = vec![0.0; q.n_dofs()];
+        let inner = sets.get("inner")?;
+        for w in inner.windows(2) {
+            let mid = q
+                .mid(w[0], w[1])
+                .expect("neighbours on the arc share an edge");
+            loads::quadratic_edge_pressure(q.nodes(), [w[1], mid, w[0]], self.p, &mut f);
+        }
+        let mut statics = Statics::new(&asm, &fixed, Factorization::Simplicial)?;
+        statics.factorize(&k)?;
+        let mut u = vec![0.0; q.n_dofs()];
+        statics.solve(asm.matrix(&k), &f, &mut u);
+        let (l2_error, stress_error) = self.quadratic_errors(&q, formulation, &u);
+        Ok(LameSolution {
+            triangles: q.triangles().len(),
+            dofs: statics.dirichlet().n_free(),
+            l2_error,
+            stress_error,
+            inner_fe: u[2 * inner[0]],
+            inner_exact: self.radial(self.a),
+        })
+    }
+
+    /// The relative L2 errors of the displacement and the stress of a quadratic solution.
+    fn quadratic_errors(
+        &self,
+        q: &QuadraticPlaneMesh,
+        formulation: Formulation,
+        u: &[f64],
+    ) -> (f64, f64) {
+        let mut sums = [0.0; 4]; // displacement error, norm; stress error, norm
+        for (i, tri) in q.triangles().iter().enumerate() {
+            let p = q.triangle(i);
+            let ue = tri6::Dofs::from_fn(|k, _| u[2 * tri[k / 2] + k % 2]);
+            for &(l, w) in &tri6::TRI_6 {
+                let n = tri6::shape(l);
+                let interpolate = |v: [f64; 6]| (0..6).map(|k| n[k] * v[k]).sum::<f64>();
+                let x = [0, 1].map(|d| interpolate(p.map(|q| q[d])));
+                let uh = [0, 1].map(|d| interpolate(std::array::from_fn(|k| ue[2 * k + d])));
+                let dx = 0.5 * w * tri6::b_matrix(&p, l).1;
+                let exact = self.exact(x);
+                sums[0] += dx * ((uh[0] - exact[0]).powi(2) + (uh[1] - exact[1]).powi(2));
+                sums[1] += dx * (exact[0].powi(2) + exact[1].powi(2));
+                let sh = tri6::stress(formulation, &p, l, &ue, &self.material);
+                let se = self.exact_stress(x);
+                sums[2] += dx * (0..3).map(|c| (sh[c] - se[c]).powi(2)).sum::<f64>();
+                sums[3] += dx * se.iter().map(|s| s * s).sum::<f64>();
+            }
+        }
+        ((sums[0] / sums[1]).sqrt(), (sums[2] / sums[3]).sqrt())
     }
 
     /// Exact Cartesian stress (σxx, σyy, σxy): σrr = A − B/r², σθθ = A + B/r² with
