@@ -14,7 +14,7 @@ pub mod solid;
 pub use dirichlet::Dirichlet;
 
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use nalgebra::SMatrix;
+use nalgebra::{SMatrix, SVector};
 
 /// Sparse pattern over all dofs and the element scatter map.
 #[derive(Debug, Clone)]
@@ -136,6 +136,46 @@ pub(crate) fn slot(symbolic: &SymbolicSparseColMat<usize>, row: usize, col: usiz
         + rows
             .binary_search(&row)
             .expect("pattern contains every element coupling")
+}
+
+/// Adds the internal forces of `elements` at `u` (all dofs, node-major with D / N dofs per
+/// node) to `f` and their tangent to `k` (values on `asm`'s pattern, whose first elements
+/// are these), without zeroing either. `kernel(e, u_e, f_e, k_e)` adds element e's force
+/// and, when given, its tangent; an inverted element is reported with its index.
+pub fn add_internal<const N: usize, const D: usize>(
+    elements: &[[usize; N]],
+    asm: &Assembler,
+    u: &[f64],
+    f: &mut [f64],
+    mut k: Option<&mut [f64]>,
+    mut kernel: impl FnMut(
+        usize,
+        &SVector<f64, D>,
+        &mut SVector<f64, D>,
+        Option<&mut SMatrix<f64, D, D>>,
+    ) -> Result<(), crate::element::solid::Inverted>,
+) -> Result<(), crate::error::ModelError> {
+    let dpn = D / N;
+    let mut ke = SMatrix::<f64, D, D>::zeros();
+    for (e, el) in elements.iter().enumerate() {
+        let ue = SVector::<f64, D>::from_fn(|row, _| u[dpn * el[row / dpn] + row % dpn]);
+        let mut fe = SVector::<f64, D>::zeros();
+        ke.fill(0.0);
+        let tangent = k.is_some().then_some(&mut ke);
+        kernel(e, &ue, &mut fe, tangent).map_err(|inv| crate::error::ModelError::Inverted {
+            element: e,
+            j: inv.j,
+        })?;
+        for (a, &n) in el.iter().enumerate() {
+            for i in 0..dpn {
+                f[dpn * n + i] += fe[dpn * a + i];
+            }
+        }
+        if let Some(k) = k.as_deref_mut() {
+            asm.add(k, e, &ke);
+        }
+    }
+    Ok(())
 }
 
 /// y ← y + α A x for a matrix on an assembler's pattern (no allocation).

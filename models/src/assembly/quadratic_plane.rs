@@ -1,12 +1,15 @@
 //! Global matrices of a mesh of 6-node plane-strain triangles ([`crate::element::tri6`]),
 //! properties per region tag as for the linear mesh ([`super::plane::PlaneProperties`]), in
-//! the displacement or the mixed P2/P0 formulation.
+//! the displacement or the mixed P2/P0 formulation; and at finite strain ([`PlaneBody`], for
+//! the Newton solver).
 
 use super::plane::PlaneProperties;
 use super::Assembler;
-use crate::element::tri6;
 pub use crate::element::tri6::Formulation;
+use crate::element::{tri6, Material};
+use crate::error::ModelError;
 use crate::mesh::QuadraticPlaneMesh;
+use crate::solve::newton::Equations;
 
 /// The assembler of the mesh's triangles.
 pub fn assembler(mesh: &QuadraticPlaneMesh) -> Assembler {
@@ -40,5 +43,29 @@ pub fn mass(
     for (i, &r) in mesh.triangle_regions().iter().enumerate() {
         let rho = props.continua[usize::from(r)].density;
         asm.add(values, i, &tri6::mass_consistent(&mesh.triangle(i), rho));
+    }
+}
+
+/// A mesh of 6-node triangles at finite strain (plane strain, total Lagrangian), one
+/// material per region: the internal forces and tangent for [`crate::solve::Newton`].
+pub struct PlaneBody<'a> {
+    pub mesh: &'a QuadraticPlaneMesh,
+    pub asm: &'a Assembler,
+    pub materials: &'a [Material],
+}
+
+impl Equations for PlaneBody<'_> {
+    fn add_internal(
+        &mut self,
+        u: &[f64],
+        f: &mut [f64],
+        k: Option<&mut [f64]>,
+    ) -> Result<(), ModelError> {
+        let mesh = self.mesh;
+        let materials = self.materials;
+        super::add_internal(mesh.triangles(), self.asm, u, f, k, |e, ue, fe, ke| {
+            let material = &materials[usize::from(mesh.triangle_regions()[e])];
+            tri6::internal(&mesh.triangle(e), ue, material, fe, ke)
+        })
     }
 }

@@ -3,7 +3,7 @@
 //! tetrahedra of one material law — whose internal forces and tangent go through the total
 //! Lagrangian kernel ([`crate::element::solid`]) for the nonlinear solver.
 
-use nalgebra::{Matrix3, SMatrix, SVector};
+use nalgebra::{Matrix3, SVector};
 
 use super::plane::Continuum;
 use super::Assembler;
@@ -204,16 +204,12 @@ pub struct Body<'a> {
 }
 
 impl Equations for Body<'_> {
-    fn internal(
+    fn add_internal(
         &mut self,
         u: &[f64],
         f: &mut [f64],
-        mut k: Option<&mut [f64]>,
+        k: Option<&mut [f64]>,
     ) -> Result<(), ModelError> {
-        f.fill(0.0);
-        if let Some(k) = k.as_deref_mut() {
-            k.fill(0.0);
-        }
         self.solid.add_internal(self.asm, u, f, k)
     }
 }
@@ -225,30 +221,11 @@ fn add<S: Shape<N>, const N: usize, const D: usize>(
     asm: &Assembler,
     u: &[f64],
     f: &mut [f64],
-    mut k: Option<&mut [f64]>,
+    k: Option<&mut [f64]>,
 ) -> Result<(), ModelError> {
-    let mut ke = SMatrix::<f64, D, D>::zeros();
-    for (e, (el, r)) in elements.iter().zip(reference).enumerate() {
-        let ue = SVector::<f64, D>::from_fn(|row, _| u[3 * el[row / 3] + row % 3]);
-        let mut fe = SVector::<f64, D>::zeros();
-        ke.fill(0.0);
-        let tangent = k.is_some().then_some(&mut ke);
-        internal::<S, N, D>(r, &ue, material, &mut fe, tangent).map_err(|inv| {
-            ModelError::Inverted {
-                element: e,
-                j: inv.j,
-            }
-        })?;
-        for (a, &n) in el.iter().enumerate() {
-            for i in 0..3 {
-                f[3 * n + i] += fe[3 * a + i];
-            }
-        }
-        if let Some(k) = k.as_deref_mut() {
-            asm.add(k, e, &ke);
-        }
-    }
-    Ok(())
+    super::add_internal(elements, asm, u, f, k, |e, ue, fe, ke| {
+        internal::<S, N, D>(&reference[e], ue, material, fe, ke)
+    })
 }
 
 /// Assembler over the tetrahedra of `mesh`, in mesh order.

@@ -20,7 +20,8 @@
 
 use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector3};
 
-use super::Elastic;
+use super::solid::Inverted;
+use super::{Elastic, Material};
 
 /// Element displacement vector (u_x0, u_y0, …, u_x5, u_y5).
 pub type Dofs = SVector<f64, 12>;
@@ -83,9 +84,9 @@ fn reference_gradients(l: [f64; 3]) -> [[f64; 2]; 6] {
     ]
 }
 
-/// B at area coordinates `l` and the Jacobian determinant there (twice the area of a
-/// straight-sided element; positive for counter-clockwise corners).
-pub fn b_matrix(p: &[[f64; 2]; 6], l: [f64; 3]) -> (BMatrix, f64) {
+/// ∇N_a = (∂N_a/∂x, ∂N_a/∂y) at area coordinates `l` and the Jacobian determinant there
+/// (twice the area of a straight-sided element; positive for counter-clockwise corners).
+pub fn gradients(p: &[[f64; 2]; 6], l: [f64; 3]) -> ([[f64; 2]; 6], f64) {
     let g = reference_gradients(l);
     let mut j = Matrix2::zeros();
     for (gi, pi) in g.iter().zip(p) {
@@ -97,16 +98,83 @@ pub fn b_matrix(p: &[[f64; 2]; 6], l: [f64; 3]) -> (BMatrix, f64) {
     }
     let det = j.determinant();
     let inv = j.try_inverse().unwrap_or_else(Matrix2::zeros);
+    let grads = g.map(|gi| {
+        [
+            inv[(0, 0)] * gi[0] + inv[(0, 1)] * gi[1],
+            inv[(1, 0)] * gi[0] + inv[(1, 1)] * gi[1],
+        ]
+    });
+    (grads, det)
+}
+
+/// B at area coordinates `l` and the Jacobian determinant there.
+pub fn b_matrix(p: &[[f64; 2]; 6], l: [f64; 3]) -> (BMatrix, f64) {
+    let (grads, det) = gradients(p, l);
     let mut b = BMatrix::zeros();
-    for (i, gi) in g.iter().enumerate() {
-        let dx = inv[(0, 0)] * gi[0] + inv[(0, 1)] * gi[1];
-        let dy = inv[(1, 0)] * gi[0] + inv[(1, 1)] * gi[1];
+    for (i, [dx, dy]) in grads.into_iter().enumerate() {
         b[(0, 2 * i)] = dx;
         b[(1, 2 * i + 1)] = dy;
         b[(2, 2 * i)] = dy;
         b[(2, 2 * i + 1)] = dx;
     }
     (b, det)
+}
+
+/// Plane-strain total Lagrangian internal force and, when asked, tangent of one element with
+/// node-major displacements `u` (the 2D counterpart of [`super::solid::internal`], 3-point
+/// rule): F = I + Σ_a u_a ⊗ ∇N_a in the plane with F_zz = 1, f_a = ∫ P(F) ∇N_a dA and
+/// K_ab,ik = ∫ Σ_JL ∇N_a,J (∂P_iJ/∂F_kL) ∇N_b,L dA over the in-plane indices. For the linear
+/// law this is [`stiffness`] (f = K u). A finite-strain law refuses J = det F ≤ 0.
+pub fn internal(
+    p: &[[f64; 2]; 6],
+    u: &Dofs,
+    material: &Material,
+    force: &mut Dofs,
+    mut tangent: Option<&mut SMatrix<f64, 12, 12>>,
+) -> Result<(), Inverted> {
+    for &(l, w) in &TRI_3 {
+        let (g, det) = gradients(p, l);
+        let mut f = Matrix3::<f64>::identity();
+        for (a, ga) in g.iter().enumerate() {
+            for i in 0..2 {
+                for jj in 0..2 {
+                    f[(i, jj)] += u[2 * a + i] * ga[jj];
+                }
+            }
+        }
+        if material.law.finite() {
+            let j = f.determinant();
+            if j.is_nan() || j <= 0.0 {
+                return Err(Inverted { j });
+            }
+        }
+        let scale = 0.5 * w * det;
+        let stress = material.stress(&f) * scale;
+        for (a, ga) in g.iter().enumerate() {
+            for i in 0..2 {
+                force[2 * a + i] += stress[(i, 0)] * ga[0] + stress[(i, 1)] * ga[1];
+            }
+        }
+        if let Some(k) = tangent.as_deref_mut() {
+            let t = material.tangent(&f) * scale;
+            for (a, ga) in g.iter().enumerate() {
+                for (b, gb) in g.iter().enumerate() {
+                    for i in 0..2 {
+                        for kk in 0..2 {
+                            let mut s = 0.0;
+                            for jj in 0..2 {
+                                for ll in 0..2 {
+                                    s += ga[jj] * t[(3 * i + jj, 3 * kk + ll)] * gb[ll];
+                                }
+                            }
+                            k[(2 * a + i, 2 * b + kk)] += s;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Area ∫ dA (exact for straight edges and for parabolic edges, whose det J is linear).
@@ -322,5 +390,46 @@ mod tests {
         });
         let (k1, k2) = (stiffness(&p, &d), stiffness_mixed(&p, &elastic));
         assert!((k1 * u - k2 * u).amax() < 1e-13 * (k1 * u).amax());
+    }
+
+    #[test]
+    fn the_finite_strain_kernel_gives_the_linear_stiffness_and_its_own_tangent() {
+        use crate::element::material::Law;
+        let p = element();
+        let elastic = Elastic::new("m", 0.05, 0.43).unwrap();
+        let u = Dofs::from_fn(|r, _| 0.2 * (((r * 7919 + 13) % 97) as f64 / 97.0 - 0.5));
+        // Linear law: f = K u with K the displacement formulation's stiffness.
+        let (mut f, mut k) = (Dofs::zeros(), SMatrix::<f64, 12, 12>::zeros());
+        internal(
+            &p,
+            &u,
+            &Material::new(Law::Linear, elastic),
+            &mut f,
+            Some(&mut k),
+        )
+        .unwrap();
+        let k_lin = stiffness(&p, &elastic.plane_strain());
+        assert!((k - k_lin).amax() < 1e-14 * k_lin.amax());
+        assert!((f - k_lin * u).amax() < 1e-14 * f.amax());
+        // Finite laws: the tangent against central differences of the force.
+        for law in [Law::NeoHookean, Law::StVenantKirchhoff] {
+            let m = Material::new(law, elastic);
+            let (mut f, mut k) = (Dofs::zeros(), SMatrix::<f64, 12, 12>::zeros());
+            internal(&p, &u, &m, &mut f, Some(&mut k)).unwrap();
+            let h = 1e-6;
+            for c in 0..12 {
+                let (mut up, mut um) = (u, u);
+                up[c] += h;
+                um[c] -= h;
+                let (mut fp, mut fm) = (Dofs::zeros(), Dofs::zeros());
+                internal(&p, &up, &m, &mut fp, None).unwrap();
+                internal(&p, &um, &m, &mut fm, None).unwrap();
+                let column = (fp - fm) / (2.0 * h);
+                assert!(
+                    (column - k.column(c)).amax() < 1e-6 * k.amax(),
+                    "{law:?} {c}"
+                );
+            }
+        }
     }
 }

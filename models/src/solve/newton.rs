@@ -50,15 +50,29 @@ fn norm_of(x: &[f64]) -> f64 {
 
 /// What the solver iterates on: the internal forces and their tangent.
 pub trait Equations {
-    /// Writes the internal forces at `u` (all dofs) into `f` and, when given, the tangent
-    /// values (on the assembler's pattern) into `k`. An inverted element is an error
+    /// Adds the internal forces at `u` (all dofs) to `f` and, when given, the tangent values
+    /// (on the assembler's pattern) to `k`. An inverted element is an error
     /// ([`ModelError::Inverted`]); the solver cuts back.
-    fn internal(
+    fn add_internal(
         &mut self,
         u: &[f64],
         f: &mut [f64],
         k: Option<&mut [f64]>,
     ) -> Result<(), ModelError>;
+
+    /// Writes (rather than adds) the internal forces and the tangent.
+    fn internal(
+        &mut self,
+        u: &[f64],
+        f: &mut [f64],
+        mut k: Option<&mut [f64]>,
+    ) -> Result<(), ModelError> {
+        f.fill(0.0);
+        if let Some(k) = k.as_deref_mut() {
+            k.fill(0.0);
+        }
+        self.add_internal(u, f, k)
+    }
 }
 
 /// The solver's settings.

@@ -83,7 +83,7 @@ struct Equilibrium<'a> {
 }
 
 impl Equations for Equilibrium<'_> {
-    fn internal(
+    fn add_internal(
         &mut self,
         u: &[f64],
         f: &mut [f64],
@@ -93,7 +93,7 @@ impl Equations for Equilibrium<'_> {
             solid: self.solid,
             asm: self.asm,
         };
-        body.internal(u, f, k.as_deref_mut())?;
+        body.add_internal(u, f, k.as_deref_mut())?;
         if let Some(c) = self.contact {
             c.add_forces(self.penalty, u, f);
             if let Some(k) = k {
