@@ -89,6 +89,13 @@ pub enum ModelError {
         needed: usize,
         limit: usize,
     },
+    /// A method that needs the linear (small-strain) equation of motion was given a
+    /// finite-strain structure.
+    #[error(
+        "{what} needs the linear equation of motion; finite strain runs with houbolt or \
+         newmark in full order"
+    )]
+    LinearOnly { what: &'static str },
     /// Failure inside the sparse linear algebra that is not a singular matrix.
     #[error("sparse linear algebra failed: {0}")]
     LinearAlgebra(String),

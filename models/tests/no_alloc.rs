@@ -1,4 +1,5 @@
-//! A step of every integrator, a static re-solve, Newton iterations at finite strain, and an
+//! A step of every integrator (linear, and Houbolt / Newmark at finite strain), a static
+//! re-solve, Newton iterations at finite strain, and an
 //! abdomen scene's step with all its outputs read allocate nothing. Verified with a counting
 //! global allocator (per thread, so parallel tests do not interfere).
 
@@ -195,4 +196,81 @@ fn newton_iterations_allocate_nothing() {
     println!("{first} then {iterations} iterations; {n} allocations");
     assert!(iterations >= 8, "{iterations}");
     assert_eq!(n, 0, "{n} allocations in {iterations} iterations");
+}
+
+#[test]
+fn finite_strain_steps_allocate_nothing() {
+    use models::assembly::plane::{Continuum, PlaneProperties};
+    use models::assembly::quadratic_plane::{self, Formulation, PlaneBody};
+    use models::element::{Elastic, Law, Material};
+    use models::mesh::{generate, QuadraticPlaneMesh};
+    use models::solve::newton::Equations;
+    use std::sync::Arc;
+
+    let linear = generate::rectangle(4.0, 1.0, 8, 2).unwrap();
+    let mesh = Arc::new(QuadraticPlaneMesh::new(&linear));
+    let asm = Arc::new(quadratic_plane::assembler(&mesh));
+    let elastic = Elastic::new("m", 1.0, 0.45).unwrap();
+    let props = PlaneProperties {
+        continua: vec![Continuum {
+            elastic,
+            density: 1e-9,
+        }],
+        trusses: vec![],
+    };
+    let (mut k, mut m) = (asm.zeros(), asm.zeros());
+    quadratic_plane::stiffness(&mesh, &asm, &props, Formulation::Displacement, &mut k);
+    quadratic_plane::mass(&mesh, &asm, &props, &mut m);
+    let lumped = quadratic_plane::lumped_mass(&mesh, &props);
+    let clamped: Vec<usize> = (0..mesh.nodes().len())
+        .filter(|&n| mesh.nodes()[n][0] == 0.0)
+        .flat_map(|n| [2 * n, 2 * n + 1])
+        .collect();
+    let bc = Dirichlet::new(&asm, &clamped).unwrap();
+    let materials = Arc::new(vec![Material::new(Law::NeoHookean, elastic)]);
+    let (mesh2, asm2) = (mesh.clone(), asm.clone());
+    let s = Structure::new(
+        bc,
+        &k,
+        &m,
+        &lumped,
+        Damping::NONE,
+        Factorization::Simplicial,
+    )
+    .unwrap()
+    .with_internal_forces(Arc::new(move |u, f, k| {
+        PlaneBody {
+            mesh: &mesh2,
+            asm: &asm2,
+            materials: &materials,
+        }
+        .internal(u, f, k)
+    }));
+    for kind in [IntegratorKind::Houbolt, IntegratorKind::Newmark] {
+        let mut integ = kind.create();
+        integ.prepare(&s, 1e-4).unwrap();
+        let mut load =
+            |t: f64, f: &mut [f64]| f.iter_mut().for_each(|x| *x = -2e-4 * (300.0 * t).sin());
+        integ
+            .start(&s, 0.0, &vec![0.0; s.n()], &vec![0.0; s.n()], &mut load)
+            .unwrap();
+        for _ in 0..3 {
+            integ.step(&s, &mut load).unwrap();
+        }
+        let mut iterations = 0;
+        let n = allocations_during(|| {
+            for _ in 0..30 {
+                integ.step(&s, &mut load).unwrap();
+                iterations = iterations.max(integ.newton_iterations());
+            }
+        });
+        assert!(
+            iterations >= 2,
+            "{kind:?}: the load should need Newton iterations"
+        );
+        assert_eq!(
+            n, 0,
+            "{kind:?} allocated {n} times in 30 finite-strain steps"
+        );
+    }
 }

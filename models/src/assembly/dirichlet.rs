@@ -21,6 +21,8 @@ pub struct Dirichlet {
     free: Vec<usize>,
     symbolic: SymbolicSparseColMat<usize>,
     gather: Vec<usize>,
+    /// Stored entries of the full pattern.
+    full_nnz: usize,
     /// K_fc: for each constrained dof (in `constrained` order) its entries in free rows,
     /// as (index into the full values, equation), from `coupling[ptr[i]..ptr[i + 1]]`.
     coupling: Vec<(usize, usize)>,
@@ -79,6 +81,7 @@ impl Dirichlet {
             coupling_ptr.push(coupling.len());
         }
         Ok(Self {
+            full_nnz: asm.nnz(),
             constrained,
             equation,
             free,
@@ -90,6 +93,16 @@ impl Dirichlet {
     }
 
     /// Number of free dofs (equations).
+    /// Dofs of the full system.
+    pub fn n_dofs(&self) -> usize {
+        self.equation.len()
+    }
+
+    /// Stored entries of the full pattern (the assembler's).
+    pub fn full_nnz(&self) -> usize {
+        self.full_nnz
+    }
+
     pub fn n_free(&self) -> usize {
         self.free.len()
     }

@@ -46,6 +46,24 @@ pub fn mass(
     }
 }
 
+/// Lumped (HRZ) mass per dof.
+pub fn lumped_mass(mesh: &QuadraticPlaneMesh, props: &PlaneProperties) -> Vec<f64> {
+    let mut m = vec![0.0; mesh.n_dofs()];
+    for (i, (el, &r)) in mesh
+        .triangles()
+        .iter()
+        .zip(mesh.triangle_regions())
+        .enumerate()
+    {
+        let lumped = tri6::mass_lumped(&mesh.triangle(i), props.continua[usize::from(r)].density);
+        for (a, &n) in el.iter().enumerate() {
+            m[2 * n] += lumped[2 * a];
+            m[2 * n + 1] += lumped[2 * a + 1];
+        }
+    }
+    m
+}
+
 /// A mesh of 6-node triangles at finite strain (plane strain, total Lagrangian), one
 /// material per region: the internal forces and tangent for [`crate::solve::Newton`].
 pub struct PlaneBody<'a> {

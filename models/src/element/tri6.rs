@@ -274,6 +274,16 @@ pub fn stress(
     }
 }
 
+/// Lumped mass by the HRZ rule (Hinton, Rock & Zienkiewicz 1976): the consistent mass's
+/// diagonal scaled to the element's mass (row sums would leave the corners without mass;
+/// on a straight-sided element the corners get 3/57 and the mid-edge nodes 16/57 of it).
+pub fn mass_lumped(p: &[[f64; 2]; 6], density: f64) -> Dofs {
+    let m = mass_consistent(p, density);
+    let diagonal: f64 = (0..12).step_by(2).map(|i| m[(i, i)]).sum();
+    let scale = density * area(p) / diagonal;
+    Dofs::from_fn(|i, _| m[(i, i)] * scale)
+}
+
 /// The corners of a straight-sided element with its mid-edge nodes at the midpoints.
 pub fn straight(corners: &[[f64; 2]; 3]) -> [[f64; 2]; 6] {
     let mid = |[a, b]: [usize; 2]| {

@@ -55,6 +55,7 @@ impl Integrator for CentralDifference {
     }
 
     fn prepare(&mut self, s: &Structure, dt: f64) -> Result<(), ModelError> {
+        s.require_linear("central_difference")?;
         self.dt = check_dt(dt)?;
         self.critical = 2.0 / max_omega_squared(s).sqrt();
         self.f.resize(s.n(), 0.0);

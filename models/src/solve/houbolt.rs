@@ -160,7 +160,7 @@ impl Integrator for Houbolt {
             &mut self.damping_part,
             &mut self.rhs,
         );
-        self.effective.solve(&mut self.rhs);
+        self.effective.solve(s, &mut self.rhs, &self.state.u)?;
         // Rotate history: u_{n−2} ← u_{n−1} ← u_n ← u_{n+1}; rhs now holds u_{n+1}.
         let [b1, b2] = &mut self.back;
         std::mem::swap(b1, b2);
@@ -187,5 +187,9 @@ impl Integrator for Houbolt {
 
     fn dt(&self) -> f64 {
         self.dt
+    }
+
+    fn newton_iterations(&self) -> usize {
+        self.effective.iterations()
     }
 }

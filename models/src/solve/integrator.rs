@@ -118,6 +118,12 @@ pub trait Integrator {
     /// The step size the scheme is prepared for.
     fn dt(&self) -> f64;
 
+    /// Newton iterations of the last step on a finite-strain structure (0 when linear, and
+    /// for the explicit schemes, which refuse such a structure).
+    fn newton_iterations(&self) -> usize {
+        0
+    }
+
     /// Largest stable step for the prepared structure (undamped), or `None` if the scheme
     /// is unconditionally stable.
     fn critical_time_step(&self) -> Option<f64> {
@@ -175,6 +181,11 @@ pub(crate) fn consistent_acceleration(
     state: &mut State,
     load: &mut Load<'_>,
 ) -> Result<(), ModelError> {
+    if s.is_nonlinear() && state.u.iter().any(|&u| u != 0.0) {
+        return Err(ModelError::LinearOnly {
+            what: "a finite-strain start from a deformed state",
+        });
+    }
     let mut f = vec![0.0; s.n()];
     load(state.t, &mut f);
     s.residual(&f, &state.u, &state.v, &mut state.a);

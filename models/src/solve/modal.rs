@@ -76,6 +76,7 @@ impl ModalBasis {
         count: usize,
         load: &[f64],
     ) -> Result<Self, ModelError> {
+        s.require_linear("a modal reduction")?;
         let clock = Instant::now();
         let mut chol = s.analyze()?;
         chol.factorize(s.stiffness())?;

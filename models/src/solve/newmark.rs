@@ -73,7 +73,7 @@ impl Integrator for Newmark {
             &mut self.damping_part,
             &mut self.rhs,
         );
-        self.effective.solve(&mut self.rhs);
+        self.effective.solve(s, &mut self.rhs, u)?;
         for i in 0..u.len() {
             let a1 = 4.0 / (dt * dt) * (self.rhs[i] - u[i]) - 4.0 / dt * v[i] - a[i];
             v[i] += 0.5 * dt * (a[i] + a1);
@@ -91,5 +91,9 @@ impl Integrator for Newmark {
 
     fn dt(&self) -> f64 {
         self.dt
+    }
+
+    fn newton_iterations(&self) -> usize {
+        self.effective.iterations()
     }
 }

@@ -30,6 +30,7 @@ impl Integrator for Rk4 {
     }
 
     fn prepare(&mut self, s: &Structure, dt: f64) -> Result<(), ModelError> {
+        s.require_linear("rk4")?;
         self.dt = check_dt(dt)?;
         self.critical = 2.0 * std::f64::consts::SQRT_2 / max_omega_squared(s).sqrt();
         for x in self.du.iter_mut().chain(self.dv.iter_mut()) {
