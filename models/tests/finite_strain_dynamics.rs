@@ -13,7 +13,7 @@ use models::assembly::quadratic_plane::{self, Formulation, PlaneBody};
 use models::assembly::{Assembler, Dirichlet};
 use models::element::{Elastic, Law, Material};
 use models::mesh::{generate, QuadraticPlaneMesh};
-use models::solve::newton::{Equations, Settings};
+use models::solve::newton::Settings;
 use models::solve::{
     Damping, Factorization, IntegratorKind, ModalBasis, Newton, Reduction, Structure,
 };
@@ -26,7 +26,7 @@ struct Cantilever {
     asm: Arc<Assembler>,
     clamped: Vec<usize>,
     tip: Vec<usize>,
-    materials: Arc<Vec<Material>>,
+    materials: Arc<[Material]>,
     props: PlaneProperties,
 }
 
@@ -63,12 +63,10 @@ impl Cantilever {
             density: 1e-9,
         });
         Self {
-            materials: Arc::new(
-                continua
-                    .iter()
-                    .map(|c| Material::new(law, c.elastic))
-                    .collect(),
-            ),
+            materials: continua
+                .iter()
+                .map(|c| Material::new(law, c.elastic))
+                .collect(),
             props: PlaneProperties {
                 continua: continua.to_vec(),
                 trusses: vec![],
@@ -97,14 +95,7 @@ impl Cantilever {
             return s;
         }
         let (mesh, asm, materials) = (self.mesh.clone(), self.asm.clone(), self.materials.clone());
-        s.with_internal_forces(Arc::new(move |u, f, k| {
-            PlaneBody {
-                mesh: &mesh,
-                asm: &asm,
-                materials: &materials,
-            }
-            .internal(u, f, k)
-        }))
+        s.with_internal_forces(quadratic_plane::internal_forces(mesh, asm, materials))
     }
 
     /// A downward tip shear of resultant `force` (N/mm) on the free dofs.

@@ -201,10 +201,9 @@ fn newton_iterations_allocate_nothing() {
 #[test]
 fn finite_strain_steps_allocate_nothing() {
     use models::assembly::plane::{Continuum, PlaneProperties};
-    use models::assembly::quadratic_plane::{self, Formulation, PlaneBody};
+    use models::assembly::quadratic_plane::{self, Formulation};
     use models::element::{Elastic, Law, Material};
     use models::mesh::{generate, QuadraticPlaneMesh};
-    use models::solve::newton::Equations;
     use std::sync::Arc;
 
     let linear = generate::rectangle(4.0, 1.0, 8, 2).unwrap();
@@ -227,8 +226,7 @@ fn finite_strain_steps_allocate_nothing() {
         .flat_map(|n| [2 * n, 2 * n + 1])
         .collect();
     let bc = Dirichlet::new(&asm, &clamped).unwrap();
-    let materials = Arc::new(vec![Material::new(Law::NeoHookean, elastic)]);
-    let (mesh2, asm2) = (mesh.clone(), asm.clone());
+    let materials = Arc::from([Material::new(Law::NeoHookean, elastic)]);
     let s = Structure::new(
         bc,
         &k,
@@ -238,14 +236,7 @@ fn finite_strain_steps_allocate_nothing() {
         Factorization::Simplicial,
     )
     .unwrap()
-    .with_internal_forces(Arc::new(move |u, f, k| {
-        PlaneBody {
-            mesh: &mesh2,
-            asm: &asm2,
-            materials: &materials,
-        }
-        .internal(u, f, k)
-    }));
+    .with_internal_forces(quadratic_plane::internal_forces(mesh, asm, materials));
     for kind in [IntegratorKind::Houbolt, IntegratorKind::Newmark] {
         let mut integ = kind.create();
         integ.prepare(&s, 1e-4).unwrap();

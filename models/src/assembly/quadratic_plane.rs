@@ -3,6 +3,8 @@
 //! the displacement or the mixed P2/P0 formulation; and at finite strain ([`PlaneBody`], for
 //! the Newton solver).
 
+use std::sync::Arc;
+
 use super::plane::PlaneProperties;
 use super::Assembler;
 pub use crate::element::tri6::Formulation;
@@ -10,6 +12,7 @@ use crate::element::{tri6, Material};
 use crate::error::ModelError;
 use crate::mesh::QuadraticPlaneMesh;
 use crate::solve::newton::Equations;
+use crate::solve::structure::InternalForces;
 
 /// The assembler of the mesh's triangles.
 pub fn assembler(mesh: &QuadraticPlaneMesh) -> Assembler {
@@ -86,4 +89,21 @@ impl Equations for PlaneBody<'_> {
             tri6::internal(&mesh.triangle(e), ue, material, fe, ke)
         })
     }
+}
+
+/// The internal forces of the body as a finite-strain structure's
+/// ([`crate::solve::Structure::with_internal_forces`]), owning what it reads.
+pub fn internal_forces(
+    mesh: Arc<QuadraticPlaneMesh>,
+    asm: Arc<Assembler>,
+    materials: Arc<[Material]>,
+) -> Arc<InternalForces> {
+    Arc::new(move |u, f, k| {
+        PlaneBody {
+            mesh: &mesh,
+            asm: &asm,
+            materials: &materials,
+        }
+        .internal(u, f, k)
+    })
 }
