@@ -219,7 +219,12 @@ mod plane2d_quadratic {
             return s;
         }
         let materials = Arc::from([Material::new(Law::NeoHookean, props.continua[0].elastic)]);
-        s.with_internal_forces(quadratic_plane::internal_forces(mesh, asm, materials))
+        s.with_internal_forces(quadratic_plane::internal_forces(
+            mesh,
+            asm,
+            materials,
+            Arc::from([]),
+        ))
     }
 
     #[divan::bench(args = [false, true])]

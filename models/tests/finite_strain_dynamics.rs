@@ -95,7 +95,12 @@ impl Cantilever {
             return s;
         }
         let (mesh, asm, materials) = (self.mesh.clone(), self.asm.clone(), self.materials.clone());
-        s.with_internal_forces(quadratic_plane::internal_forces(mesh, asm, materials))
+        s.with_internal_forces(quadratic_plane::internal_forces(
+            mesh,
+            asm,
+            materials,
+            Arc::from([]),
+        ))
     }
 
     /// A downward tip shear of resultant `force` (N/mm) on the free dofs.
@@ -122,6 +127,7 @@ impl Cantilever {
             mesh: &self.mesh,
             asm: &self.asm,
             materials: &self.materials,
+            trusses: &[],
         };
         let mut newton = Newton::new(
             &self.asm,

@@ -3,9 +3,11 @@
 //! graded meshes, and singular systems that must be reported, never solved into garbage.
 
 use models::assembly::plane::{self, Continuum, PlaneProperties, Truss};
+use models::assembly::quadratic_plane::{self, Formulation};
 use models::element::Elastic;
 use models::mesh::generate;
 use models::mesh::Mesh2d;
+use models::mesh::QuadraticPlaneMesh;
 use models::solve::{statics::reactions, Damping, Factorization, IntegratorKind, Statics};
 use models::verify::{lame::Lame, problems};
 use models::ModelError;
@@ -67,26 +69,49 @@ fn stiffness_contrast_of_a_million_is_solved_to_round_off() {
             }],
             trusses: vec![Truss::new("wall", ratio * e, area, 1e-9).unwrap()],
         };
-        let asm = plane::assembler(&mesh);
-        let mut k = asm.zeros();
-        plane::stiffness(&mesh, &asm, &props, &mut k);
-        let mut fixed: Vec<usize> = sets.get("left").unwrap().iter().map(|n| 2 * n).collect();
-        fixed.push(1);
-        let mut u = vec![0.0; mesh.n_dofs()];
-        for &n in sets.get("right").unwrap() {
-            fixed.push(2 * n);
-            u[2 * n] = delta;
+        // Linear triangles and lines (None), then 6-node triangles and 3-node lines in both
+        // formulations: the exact field is linear, so all reproduce it.
+        let quadratic = QuadraticPlaneMesh::new(&mesh);
+        for kind in [
+            None,
+            Some(Formulation::Displacement),
+            Some(Formulation::Mixed),
+        ] {
+            let asm = match kind {
+                None => plane::assembler(&mesh),
+                Some(_) => quadratic_plane::assembler(&quadratic),
+            };
+            let nodes = |set: &[usize]| match kind {
+                None => set.to_vec(),
+                Some(_) => quadratic.extend(set),
+            };
+            let mut k = asm.zeros();
+            match kind {
+                None => plane::stiffness(&mesh, &asm, &props, &mut k),
+                Some(f) => quadratic_plane::stiffness(&quadratic, &asm, &props, f, &mut k),
+            }
+            let (left, right) = (
+                nodes(sets.get("left").unwrap()),
+                nodes(sets.get("right").unwrap()),
+            );
+            let mut fixed: Vec<usize> = left.iter().map(|n| 2 * n).collect();
+            fixed.push(1);
+            let mut u = vec![0.0; asm.n_dofs()];
+            for &n in &right {
+                fixed.push(2 * n);
+                u[2 * n] = delta;
+            }
+            let mut statics = Statics::new(&asm, &fixed, Factorization::Simplicial).unwrap();
+            statics.factorize(&k).unwrap();
+            let f = vec![0.0; u.len()];
+            statics.solve(asm.matrix(&k), &f, &mut u);
+            let mut r = vec![0.0; u.len()];
+            reactions(asm.matrix(&k), &u, &f, &mut r);
+            let force: f64 = right.iter().map(|n| r[2 * n]).sum();
+            let expect = (e / (1.0 - nu * nu) * h + 2.0 * ratio * e * area) * delta / l;
+            println!("{kind:?}, ratio {ratio:.0e}: reaction {force:.10e}, exact {expect:.10e}");
+            assert!(((force - expect) / expect).abs() < 1e-9, "{kind:?}");
         }
-        let mut statics = Statics::new(&asm, &fixed, Factorization::Simplicial).unwrap();
-        statics.factorize(&k).unwrap();
-        let f = vec![0.0; mesh.n_dofs()];
-        statics.solve(asm.matrix(&k), &f, &mut u);
-        let mut r = vec![0.0; u.len()];
-        reactions(asm.matrix(&k), &u, &f, &mut r);
-        let force: f64 = sets.get("right").unwrap().iter().map(|n| r[2 * n]).sum();
-        let expect = (e / (1.0 - nu * nu) * h + 2.0 * ratio * e * area) * delta / l;
-        println!("ratio {ratio:.0e}: reaction {force:.10e}, exact {expect:.10e}");
-        assert!(((force - expect) / expect).abs() < 1e-9);
     }
 }
 

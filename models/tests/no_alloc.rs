@@ -236,7 +236,12 @@ fn finite_strain_steps_allocate_nothing() {
         Factorization::Simplicial,
     )
     .unwrap()
-    .with_internal_forces(quadratic_plane::internal_forces(mesh, asm, materials));
+    .with_internal_forces(quadratic_plane::internal_forces(
+        mesh,
+        asm,
+        materials,
+        Arc::from([]),
+    ));
     for kind in [IntegratorKind::Houbolt, IntegratorKind::Newmark] {
         let mut integ = kind.create();
         integ.prepare(&s, 1e-4).unwrap();

@@ -32,6 +32,7 @@ fn neo_hookean(
         mesh,
         asm: &asm,
         materials: &materials,
+        trusses: &[],
     };
     let mut newton = Newton::new(&asm, constrained, Factorization::Simplicial, settings()).unwrap();
     let mut u = vec![0.0; mesh.n_dofs()];

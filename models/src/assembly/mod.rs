@@ -139,11 +139,12 @@ pub(crate) fn slot(symbolic: &SymbolicSparseColMat<usize>, row: usize, col: usiz
 }
 
 /// Adds the internal forces of `elements` at `u` (all dofs, node-major with D / N dofs per
-/// node) to `f` and their tangent to `k` (values on `asm`'s pattern, whose first elements
-/// are these), without zeroing either. `kernel(e, u_e, f_e, k_e)` adds element e's force
+/// node) to `f` and their tangent to `k` (values on `asm`'s pattern, where they are the
+/// elements from `first` on), without zeroing either. `kernel(e, u_e, f_e, k_e)` adds element e's force
 /// and, when given, its tangent; an inverted element is reported with its index.
 pub fn add_internal<const N: usize, const D: usize>(
     elements: &[[usize; N]],
+    first: usize,
     asm: &Assembler,
     u: &[f64],
     f: &mut [f64],
@@ -172,7 +173,7 @@ pub fn add_internal<const N: usize, const D: usize>(
             }
         }
         if let Some(k) = k.as_deref_mut() {
-            asm.add(k, e, &ke);
+            asm.add(k, first + e, &ke);
         }
     }
     Ok(())

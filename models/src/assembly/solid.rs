@@ -223,7 +223,7 @@ fn add<S: Shape<N>, const N: usize, const D: usize>(
     f: &mut [f64],
     k: Option<&mut [f64]>,
 ) -> Result<(), ModelError> {
-    super::add_internal(elements, asm, u, f, k, |e, ue, fe, ke| {
+    super::add_internal(elements, 0, asm, u, f, k, |e, ue, fe, ke| {
         internal::<S, N, D>(&reference[e], ue, material, fe, ke)
     })
 }

@@ -7,6 +7,7 @@
 //! matrix out. Degree-of-freedom order is node-major: `(u_x1, u_y1[, u_z1], u_x2, …)`.
 
 pub mod line2;
+pub mod line3;
 pub mod material;
 pub mod quadrature;
 pub mod solid;

@@ -1,6 +1,7 @@
 //! Quadratic triangles on a linear 2D mesh: the 6-node triangles of
 //! [`crate::element::tri6`] (corners, then the mid-edge nodes of edges 0–1, 1–2, 2–0) with
-//! the mid-edge nodes at the edge midpoints ([`super::mid_edges`]); the triangle regions
+//! the mid-edge nodes at the edge midpoints ([`super::mid_edges`]); the line elements become
+//! 3-node lines (end, mid-edge node, end) sharing the triangles' mid-edge nodes; regions
 //! carry over.
 
 use super::mid_edges::MidEdges;
@@ -13,11 +14,13 @@ pub struct QuadraticPlaneMesh {
     nodes: Vec<[f64; 2]>,
     triangles: Vec<[usize; 6]>,
     regions: Vec<u16>,
+    lines: Vec<[usize; 3]>,
+    line_regions: Vec<u16>,
     mid: MidEdges,
 }
 
 impl QuadraticPlaneMesh {
-    /// Adds the mid-edge nodes of `mesh` (its line elements are not carried over).
+    /// Adds the mid-edge nodes of `mesh`.
     pub fn new(mesh: &Mesh2d) -> Self {
         let mut nodes = mesh.nodes().to_vec();
         let mut mid = MidEdges::with_capacity(3 * nodes.len());
@@ -32,12 +35,33 @@ impl QuadraticPlaneMesh {
                 q
             })
             .collect();
+        let lines = mesh
+            .lines()
+            .iter()
+            .map(|&[a, b]| [a, mid.node(a, b, &mut nodes), b])
+            .collect();
         Self {
             nodes,
             triangles,
             regions: mesh.triangle_regions().to_vec(),
+            lines,
+            line_regions: mesh.line_regions().to_vec(),
             mid,
         }
+    }
+
+    /// The 3-node lines (end, mid-edge node, end).
+    pub fn lines(&self) -> &[[usize; 3]] {
+        &self.lines
+    }
+
+    pub fn line_regions(&self) -> &[u16] {
+        &self.line_regions
+    }
+
+    /// Coordinates of the three nodes of line `i`.
+    pub fn line(&self, i: usize) -> [[f64; 2]; 3] {
+        self.lines[i].map(|n| self.nodes[n])
     }
 
     pub fn nodes(&self) -> &[[f64; 2]] {
