@@ -1,7 +1,9 @@
-//! Sparse Cholesky factorization (faer) with a fill-reducing ordering: faer's AMD for the
-//! simplicial storage (2D meshes), nested dissection (METIS, [`super::ordering`]) for the
-//! supernodal one (3D meshes). The symbolic analysis is done once per pattern; numeric refactorization and solves reuse it and the
-//! preallocated workspace, so a solve allocates nothing.
+//! Sparse Cholesky factorization (faer, 32-bit indices) with a fill-reducing ordering: faer's
+//! AMD for the simplicial storage (2D meshes), nested dissection (METIS, [`super::ordering`])
+//! for the supernodal one (3D meshes). The simplicial factor is solved by the project's own
+//! sweeps ([`super::sweeps`]), the supernodal one by faer. The symbolic analysis is done once
+//! per pattern; numeric refactorization and solves reuse it and the preallocated workspace,
+//! so a solve allocates nothing.
 //!
 //! A singular or nearly singular matrix (a floating body, a missing support, a mechanism)
 //! is reported as [`ModelError::Singular`]: faer refuses non-positive pivots, and we also

@@ -342,13 +342,13 @@ pub(crate) struct Effective {
     chol: Option<Cholesky>,
     values: Vec<f64>,
     coefficients: (f64, f64),
-    newton: Newton,
+    newton: NewtonWork,
 }
 
 /// The work vectors of the Newton iterations (sized when the matrix is first factorized for
 /// a finite-strain structure; nothing is allocated per step).
 #[derive(Debug, Default)]
-struct Newton {
+struct NewtonWork {
     target: Vec<f64>,
     residual: Vec<f64>,
     /// (c_m M + c_c C) u.
@@ -378,7 +378,7 @@ impl Effective {
         };
         if s.is_nonlinear() && self.newton.target.len() != s.n() {
             let bc = s.dirichlet();
-            self.newton = Newton {
+            self.newton = NewtonWork {
                 target: vec![0.0; s.n()],
                 residual: vec![0.0; s.n()],
                 inertia: vec![0.0; s.n()],
@@ -456,7 +456,7 @@ impl Effective {
     }
 }
 
-impl Newton {
+impl NewtonWork {
     /// R(u) = (c_m M + c_c C) u + f_int(u) − rhs into `residual`; returns ‖R‖ and the force
     /// scale (the largest norm of the terms that balance).
     fn residual(
