@@ -44,8 +44,14 @@ const ROUND_OFF: f64 = 1e-13;
 /// round-off (systems with condition numbers up to about 10⁸ reach it).
 const ROUND_OFF_CORRECTION: f64 = 1e-8;
 
-fn norm_of(x: &[f64]) -> f64 {
+/// The Euclidean norm.
+pub(crate) fn norm_of(x: &[f64]) -> f64 {
     x.iter().map(|v| v * v).sum::<f64>().sqrt()
+}
+
+/// The largest magnitude (the ∞-norm).
+pub(crate) fn max_abs(x: &[f64]) -> f64 {
+    x.iter().fold(0.0f64, |a, v| a.max(v.abs()))
 }
 
 /// What the solver iterates on: the internal forces and their tangent.
@@ -486,9 +492,8 @@ impl Newton {
     /// internal forces far larger than the net ones, so their floor lies above the first
     /// (measured: ‖r_f‖ ≈ 5e-9 of the scale, Δu ≈ 2e-10 of u at ν = 0.4999).
     fn at_round_off(&self, norm: f64) -> bool {
-        let largest = |x: &[f64]| x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         norm <= ROUND_OFF * self.scale
-            || largest(&self.du) <= ROUND_OFF_CORRECTION * largest(&self.trial)
+            || max_abs(&self.du) <= ROUND_OFF_CORRECTION * max_abs(&self.trial)
     }
 
     /// Steps `trial` by Δu from a reused factorization; if ‖r_f‖ does not decrease, undoes

@@ -13,6 +13,7 @@ use faer::sparse::SparseColMatRef;
 use faer::MatRef;
 
 use super::cholesky::{Cholesky, Factorization};
+use super::newton::{max_abs, norm_of};
 use super::product::SymmetricProduct;
 use crate::assembly::{Assembler, Dirichlet};
 use crate::error::{non_negative, ModelError};
@@ -252,7 +253,8 @@ impl Structure {
         Cholesky::analyze(self.bc.symbolic().as_ref(), self.factorization)
     }
 
-    /// out = f − C v − K u (the unbalanced force). Allocates nothing.
+    /// out = f − C v − K u (the unbalanced force) with the linear K (for a finite-strain
+    /// structure, the tangent at rest). Allocates nothing.
     pub fn residual(&self, f: &[f64], u: &[f64], v: &[f64], out: &mut [f64]) {
         out.copy_from_slice(f);
         self.product.mul_add(&self.k, u, -1.0, out);
@@ -261,7 +263,7 @@ impl Structure {
         }
     }
 
-    /// Strain energy ½uᵀKu + kinetic energy ½vᵀMv (consistent mass).
+    /// Strain energy ½uᵀKu + kinetic energy ½vᵀMv (consistent mass), with the linear K.
     pub fn energy(&self, u: &[f64], v: &[f64], work: &mut [f64]) -> f64 {
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         work.fill(0.0);
@@ -290,11 +292,7 @@ impl Structure {
         let [h0, h1, h2] = h.vectors;
         let [m0, m1, m2] = h.mass;
         let [c0, c1, c2] = h.damping;
-        let alpha = match (self.mass_proportional, self.damped) {
-            (None, false) => Some(0.0),
-            (alpha, _) => alpha,
-        };
-        match alpha {
+        match self.mass_proportional {
             Some(alpha) => {
                 let k = [m0 + alpha * c0, m1 + alpha * c1, m2 + alpha * c2];
                 for (((x, a), b), c) in x_m.iter_mut().zip(h0).zip(h1).zip(h2) {
@@ -474,7 +472,7 @@ impl NewtonWork {
         s.product.mul_add(&s.m, x, c_m, &mut self.inertia);
         s.product.mul_add(&s.c, x, c_c, &mut self.inertia);
         let scale = [&self.target, &self.residual, &self.inertia]
-            .map(|v| norm(v))
+            .map(|v| norm_of(v))
             .into_iter()
             .fold(0.0, f64::max);
         for ((r, i), t) in self
@@ -485,7 +483,7 @@ impl NewtonWork {
         {
             *r += i - t;
         }
-        Ok((norm(&self.residual), scale))
+        Ok((norm_of(&self.residual), scale))
     }
 
     /// The values of c_m M + c_c C + K_T(u) at the last residual's u into `values`.
@@ -504,12 +502,4 @@ impl NewtonWork {
         }
         Ok(())
     }
-}
-
-fn norm(x: &[f64]) -> f64 {
-    x.iter().map(|v| v * v).sum::<f64>().sqrt()
-}
-
-fn max_abs(x: &[f64]) -> f64 {
-    x.iter().fold(0.0, |m, v| m.max(v.abs()))
 }
