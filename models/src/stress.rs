@@ -3,12 +3,13 @@
 //! [`Solid`] of any law, von Mises equivalent stress (seed 002 eq. 4.4), area- or
 //! volume-weighted nodal averages, and axial stresses of line elements.
 
-use nalgebra::{Matrix3, SMatrix, Vector6};
+use nalgebra::{Matrix3, Vector6};
 
 use crate::assembly::plane::PlaneProperties;
 use crate::assembly::solid::Solid;
-use crate::element::{line2, tet4, tri3, Elastic, Law};
-use crate::mesh::{Mesh2d, Mesh3d};
+use crate::element::tri6::{self, Formulation};
+use crate::element::{line2, line3, tet4, tri3, Elastic, Law};
+use crate::mesh::{plane_dofs, Mesh2d, Mesh3d, QuadraticPlaneMesh};
 
 /// The state at an element's centroid: Cauchy stress, strain and the element's volume.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -73,71 +74,164 @@ pub fn von_mises(s: &Vector6<f64>) -> f64 {
     (0.5 * normal + 3.0 * shear).sqrt()
 }
 
-/// Per-triangle stress operators S (4 × 6) with (σxx, σyy, σxy, σzz) = S u_e: the
-/// plane-strain D·B, and λ times the first two rows of B for σzz = λ(ε_xx + ε_yy). Built once
-/// per mesh and material, so that recovering every stress after a step is 24 multiply-adds a
-/// triangle.
+/// Linear maps from each element's dofs to `R` values (stress components), stored flat:
+/// the element's dofs, then its R × width operator row by row. Built once per mesh and
+/// material, so that recovering a stress after a step is R · width multiply-adds.
 #[derive(Debug, Clone)]
-pub struct TriangleStresses {
-    operators: Vec<SMatrix<f64, 4, 6>>,
+struct Operators<const R: usize> {
+    width: usize,
+    dofs: Vec<usize>,
+    values: Vec<f64>,
 }
 
+impl<const R: usize> Operators<R> {
+    fn new(width: usize, elements: usize) -> Self {
+        Self {
+            width,
+            dofs: Vec::with_capacity(width * elements),
+            values: Vec::with_capacity(R * width * elements),
+        }
+    }
+
+    /// Appends an element with its dofs and operator entries `op(row, column)`.
+    fn push(&mut self, dofs: &[usize], op: impl Fn(usize, usize) -> f64) {
+        debug_assert_eq!(dofs.len(), self.width);
+        self.dofs.extend_from_slice(dofs);
+        for r in 0..R {
+            self.values.extend((0..self.width).map(|c| op(r, c)));
+        }
+    }
+
+    /// The values of element `i` for the displacement `u` (all dofs).
+    fn apply(&self, i: usize, u: &[f64]) -> [f64; R] {
+        let w = self.width;
+        let dofs = &self.dofs[w * i..w * (i + 1)];
+        let op = &self.values[R * w * i..R * w * (i + 1)];
+        std::array::from_fn(|r| {
+            op[r * w..(r + 1) * w]
+                .iter()
+                .zip(dofs)
+                .map(|(a, &d)| a * u[d])
+                .sum()
+        })
+    }
+
+    fn len(&self) -> usize {
+        self.dofs.len() / self.width
+    }
+}
+
+/// Per-triangle stress operators S with (σxx, σyy, σxy, σzz) = S u_e: for 3-node triangles
+/// the plane-strain D·B and λ times the first two rows of B for σzz = λ(ε_xx + ε_yy); for
+/// 6-node triangles [`tri6::stress_operator`] at the centroid.
+#[derive(Debug, Clone)]
+pub struct TriangleStresses(Operators<4>);
+
 impl TriangleStresses {
+    /// Operators of the 3-node triangles of `mesh`.
     pub fn new(mesh: &Mesh2d, props: &PlaneProperties) -> Self {
         let d: Vec<_> = props
             .continua
             .iter()
             .map(|c| (c.elastic.plane_strain(), c.elastic.lambda()))
             .collect();
-        let operators = (0..mesh.triangles().len())
-            .map(|i| {
-                let (dm, lambda) = &d[usize::from(mesh.triangle_regions()[i])];
-                let (b, _) = tri3::b_matrix(&mesh.triangle(i));
-                let db = dm * b;
-                let mut s = SMatrix::<f64, 4, 6>::zeros();
-                s.fixed_rows_mut::<3>(0).copy_from(&db);
-                s.set_row(3, &((b.row(0) + b.row(1)) * *lambda));
-                s
-            })
-            .collect();
-        Self { operators }
+        let mut ops = Operators::new(6, mesh.triangles().len());
+        for i in 0..mesh.triangles().len() {
+            let (dm, lambda) = &d[usize::from(mesh.triangle_regions()[i])];
+            let (b, _) = tri3::b_matrix(&mesh.triangle(i));
+            let db = dm * b;
+            ops.push(&mesh.triangle_dofs(i), |r, c| match r {
+                3 => (b[(0, c)] + b[(1, c)]) * lambda,
+                _ => db[(r, c)],
+            });
+        }
+        Self(ops)
+    }
+
+    /// Operators of the 6-node triangles of `mesh` in `formulation`, at their centroids.
+    pub fn quadratic(
+        mesh: &QuadraticPlaneMesh,
+        props: &PlaneProperties,
+        formulation: Formulation,
+    ) -> Self {
+        let centroid = [1.0 / 3.0; 3];
+        let mut ops = Operators::new(12, mesh.triangles().len());
+        for (i, t) in mesh.triangles().iter().enumerate() {
+            let elastic = &props.continua[usize::from(mesh.triangle_regions()[i])].elastic;
+            let s = tri6::stress_operator(formulation, &mesh.triangle(i), centroid, elastic);
+            ops.push(&plane_dofs::<6, 12>(t), |r, c| s[(r, c)]);
+        }
+        Self(ops)
     }
 
     /// Stress of triangle `i` for nodal displacements `u` (all dofs).
-    pub fn stress(&self, mesh: &Mesh2d, i: usize, u: &[f64]) -> PlaneStress {
-        let ue = tri3::Dofs::from_fn(|k, _| u[mesh.triangle_dofs(i)[k]]);
-        let s = self.operators[i] * ue;
-        PlaneStress {
-            xx: s[0],
-            yy: s[1],
-            xy: s[2],
-            zz: s[3],
-        }
+    pub fn stress(&self, i: usize, u: &[f64]) -> PlaneStress {
+        let [xx, yy, xy, zz] = self.0.apply(i, u);
+        PlaneStress { xx, yy, xy, zz }
     }
 
     /// Stresses of all triangles.
-    pub fn all(&self, mesh: &Mesh2d, u: &[f64]) -> Vec<PlaneStress> {
-        (0..self.operators.len())
-            .map(|i| self.stress(mesh, i, u))
-            .collect()
+    pub fn all(&self, u: &[f64]) -> Vec<PlaneStress> {
+        (0..self.0.len()).map(|i| self.stress(i, u)).collect()
     }
 }
 
-/// Stresses of all triangles (builds the operators; keep a [`TriangleStresses`] when
+/// Stresses of all 3-node triangles (builds the operators; keep a [`TriangleStresses`] when
 /// recovering repeatedly).
 pub fn triangle_stresses(mesh: &Mesh2d, props: &PlaneProperties, u: &[f64]) -> Vec<PlaneStress> {
-    TriangleStresses::new(mesh, props).all(mesh, u)
+    TriangleStresses::new(mesh, props).all(u)
 }
 
-/// Axial stresses of all line elements (MPa, positive in tension).
+/// Per-line axial stress rows: σ = s · u_e (MPa, positive in tension), for 2-node lines
+/// ([`line2::axial_stress`]) or 3-node lines ([`line3::axial_stress`]).
+#[derive(Debug, Clone)]
+pub struct LineStresses(Operators<1>);
+
+impl LineStresses {
+    /// Rows of the 2-node lines of `mesh`.
+    pub fn new(mesh: &Mesh2d, props: &PlaneProperties) -> Self {
+        let mut ops = Operators::new(4, mesh.lines().len());
+        for (i, &r) in mesh.line_regions().iter().enumerate() {
+            let (p, young) = (mesh.line(i), props.trusses[usize::from(r)].young);
+            // The stress is linear in u_e: its row is its value on each unit vector.
+            ops.push(&mesh.line_dofs(i), |_, c| {
+                line2::axial_stress(&p, young, &line2::Dofs::from_fn(|k, _| unit(k, c)))
+            });
+        }
+        Self(ops)
+    }
+
+    /// Rows of the 3-node lines of `mesh`.
+    pub fn quadratic(mesh: &QuadraticPlaneMesh, props: &PlaneProperties) -> Self {
+        let mut ops = Operators::new(6, mesh.lines().len());
+        for (i, (l, &r)) in mesh.lines().iter().zip(mesh.line_regions()).enumerate() {
+            let (p, young) = (mesh.line(i), props.trusses[usize::from(r)].young);
+            ops.push(&plane_dofs::<3, 6>(l), |_, c| {
+                line3::axial_stress(&p, young, &line3::Dofs::from_fn(|k, _| unit(k, c)))
+            });
+        }
+        Self(ops)
+    }
+
+    /// Axial stress of line `i` for nodal displacements `u` (all dofs).
+    pub fn stress(&self, i: usize, u: &[f64]) -> f64 {
+        self.0.apply(i, u)[0]
+    }
+
+    /// Axial stresses of all lines.
+    pub fn all(&self, u: &[f64]) -> Vec<f64> {
+        (0..self.0.len()).map(|i| self.stress(i, u)).collect()
+    }
+}
+
+/// Component k of the c-th unit vector.
+fn unit(k: usize, c: usize) -> f64 {
+    f64::from(u8::from(k == c))
+}
+
+/// Axial stresses of all 2-node line elements (MPa, positive in tension).
 pub fn line_stresses(mesh: &Mesh2d, props: &PlaneProperties, u: &[f64]) -> Vec<f64> {
-    (0..mesh.lines().len())
-        .map(|i| {
-            let young = props.trusses[usize::from(mesh.line_regions()[i])].young;
-            let ue = line2::Dofs::from_fn(|k, _| u[mesh.line_dofs(i)[k]]);
-            line2::axial_stress(&mesh.line(i), young, &ue)
-        })
-        .collect()
+    LineStresses::new(mesh, props).all(u)
 }
 
 /// Stress (σxx, σyy, σzz, τxy, τyz, τzx) of every tetrahedron.

@@ -66,7 +66,7 @@ fn stiffer_abdominal_wall_lowers_pelvic_floor_stress() {
 
 /// Σ|u_x| / Σ|u_y| over all nodes.
 fn horizontal_share(s: &mut Abdomen) -> f64 {
-    let u = s.field().unwrap().2;
+    let u = s.field().unwrap().u;
     let sx: f64 = u.iter().step_by(2).map(|x| x.abs()).sum();
     let sy: f64 = u.iter().skip(1).step_by(2).map(|y| y.abs()).sum();
     sx / sy
@@ -95,7 +95,7 @@ fn slow_pressing_matches_the_static_solution() {
         s.do_step(i as f64 * 0.01, 0.01).unwrap();
     }
     assert!((s.time() - period / 4.0).abs() < 1e-9);
-    let dynamic = s.field().unwrap().2.to_vec();
+    let dynamic = s.field().unwrap().u.to_vec();
     let stat = s.static_displacement(0.8).unwrap();
     let diff: f64 = dynamic
         .iter()
@@ -143,7 +143,7 @@ fn stiffness_change_mid_run_takes_effect_and_continues() {
     a.do_step(0.2, 1e-3).unwrap();
     b.do_step(0.2, 1e-3).unwrap();
     // Same state before the change, so the first step after it differs only through K.
-    let (ua, ub) = (a.field().unwrap().2.to_vec(), b.field().unwrap().2.to_vec());
+    let (ua, ub) = (a.field().unwrap().u.to_vec(), b.field().unwrap().u.to_vec());
     assert!(ua != ub);
     let mut c = scene(&[], &[("floor_E", 1.0)]);
     let stiff = peaks(&mut c, 0.5, &FLOOR);
@@ -175,7 +175,7 @@ fn hard_cases_stay_bounded() {
             worst = worst.max(
                 s.field()
                     .unwrap()
-                    .2
+                    .u
                     .iter()
                     .fold(0.0f64, |a, b| a.max(b.abs())),
             );

@@ -165,7 +165,7 @@ fn the_expanded_field_gives_the_modal_outputs() {
     .iter()
     .map(|o| s.get(o).unwrap())
     .collect();
-    let u = s.field().unwrap().2.to_vec();
+    let u = s.field().unwrap().u.to_vec();
     let from_field = s.evaluate(&u, press).unwrap();
     let at = |name: &str| {
         let k = s.variables().iter().position(|v| v.name == name).unwrap();

@@ -79,11 +79,21 @@ def test_cutblock_with_input_table_reproduces_the_in_process_scene(version, tmp_
         np.testing.assert_array_equal(result[name], expect[:, i + 1], err_msg=name)
 
 
-@pytest.mark.parametrize("order", ["full", "modal"])
+DISCRETIZATIONS = {
+    "tri3": {},
+    "mixed": {"element": "tri6", "formulation": "mixed", "cavity_nu": 0.4999},
+    "finite": {"element": "tri6", "kinematics": "finite"},
+}
+
+
+@pytest.mark.parametrize("order,discretization",
+                         [("full", "tri3"), ("modal", "tri3"), ("modal", "mixed"),
+                          ("full", "finite")])
 @pytest.mark.parametrize("version", VERSIONS)
-def test_abdomen_with_shipped_configuration_reproduces_the_in_process_scene(version, order):
+def test_abdomen_with_shipped_configuration_reproduces_the_in_process_scene(
+        version, order, discretization):
     params = {"configuration": "narrow", "target_triangles": 800.0, "wall_E": 0.05,
-              "model_order": order, "modes": 30.0}
+              "model_order": order, "modes": 30.0, **DISCRETIZATIONS[discretization]}
     outputs = ["floor_stress_max", "apex_uy", "cavity_vm_mean"]
     result = simulate_fmu(
         fmu("abdomen", version), start_values=params, output=outputs,

@@ -1,5 +1,4 @@
 use anyhow::{Context, Result};
-use models::stress;
 
 use super::plot::{self, MeshMap};
 use super::{vtu, Report};
@@ -15,13 +14,15 @@ pub fn section(report: &mut Report) -> Result<()> {
 /// The abdomen under the default static press: stress map with arrows, and its VTU file.
 fn abdomen(report: &mut Report) -> Result<()> {
     let press = 0.8;
-    let (mut a, u) = abdomen_pressed(press)?;
-    let (mesh, props, _) = a.field().context("the abdomen is initialized")?;
-    let von_mises: Vec<f64> = stress::triangle_stresses(mesh, props, &u)
+    let (a, u) = abdomen_pressed(press)?;
+    let view = a.view(&u)?;
+    let mesh = view.mesh;
+    let von_mises: Vec<f64> = view
+        .triangle_stresses()
         .iter()
         .map(|s| s.von_mises())
         .collect();
-    let norm = |n: usize| u[2 * n].hypot(u[2 * n + 1]);
+    let norm = |n: usize| view.displacement(n)[0].hypot(view.displacement(n)[1]);
     let largest = (0..mesh.nodes().len()).map(norm).fold(0.0, f64::max);
     let scale = 0.12 * mesh.extent() / largest;
     let every = (mesh.nodes().len() / 150).max(1);
@@ -36,7 +37,7 @@ fn abdomen(report: &mut Report) -> Result<()> {
             lines: mesh.lines(),
             arrows: (0..mesh.nodes().len())
                 .step_by(every)
-                .map(|n| (n, [u[2 * n], u[2 * n + 1]]))
+                .map(|n| (n, view.displacement(n)))
                 .collect(),
             arrow_scale: scale,
         },
@@ -49,7 +50,7 @@ fn abdomen(report: &mut Report) -> Result<()> {
         ),
         "abdomen_stress",
     );
-    vtu::abdomen(&report.path("abdomen.vtu"), mesh, props, &u)?;
+    vtu::abdomen(&report.path("abdomen.vtu"), &view)?;
     report.file(
         "abdomen field for ParaView (displacement, stress, tissue)",
         "abdomen.vtu",

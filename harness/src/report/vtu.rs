@@ -10,9 +10,8 @@
 use std::path::Path;
 
 use anyhow::{anyhow, Result};
-use models::assembly::plane::PlaneProperties;
 use models::assembly::solid::{Elements, Solid};
-use models::mesh::Mesh2d;
+use models::scene::abdomen::discretization::FieldView;
 use models::stress;
 use vtkio::model::{
     Attribute, Attributes, ByteOrder, CellType, Cells, DataSet, UnstructuredGridPiece, Version,
@@ -63,32 +62,54 @@ fn write(path: &Path, title: &str, g: Grid) -> Result<()> {
     Ok(())
 }
 
-/// Writes the abdomen mesh with displacement `u` (all dofs) and stresses.
-pub fn abdomen(path: &Path, mesh: &Mesh2d, props: &PlaneProperties, u: &[f64]) -> Result<()> {
-    let points = mesh
-        .nodes()
-        .iter()
-        .flat_map(|p| [p[0], p[1], 0.0])
-        .collect();
-    let displacement = u
+/// Writes the abdomen's mesh — 3-node triangles and 2-node lines, or 6-node triangles
+/// (VTK_QUADRATIC_TRIANGLE, whose node order is ours) and 3-node lines (VTK_QUADRATIC_EDGE:
+/// ends first, then the middle) — with the view's displacement and stresses.
+pub fn abdomen(path: &Path, view: &FieldView<'_>) -> Result<()> {
+    let (nodes, triangles, lines, triangle_type, line_type) = match view.quadratic {
+        Some(q) => (
+            q.nodes(),
+            q.triangles().iter().map(|t| t.to_vec()).collect::<Vec<_>>(),
+            q.lines()
+                .iter()
+                .map(|&[a, m, b]| vec![a, b, m])
+                .collect::<Vec<_>>(),
+            CellType::QuadraticTriangle,
+            CellType::QuadraticEdge,
+        ),
+        None => (
+            view.mesh.nodes(),
+            view.mesh
+                .triangles()
+                .iter()
+                .map(|t| t.to_vec())
+                .collect::<Vec<_>>(),
+            view.mesh
+                .lines()
+                .iter()
+                .map(|l| l.to_vec())
+                .collect::<Vec<_>>(),
+            CellType::Triangle,
+            CellType::Line,
+        ),
+    };
+    let points = nodes.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
+    let displacement = view
+        .u
         .chunks(2)
         .flat_map(|d| [d[0], d[1], 0.0])
         .collect::<Vec<_>>();
     let mut cells = Vec::new();
     let mut stress = Vec::new();
     let mut tissue = Vec::new();
-    for (t, s) in mesh
-        .triangles()
-        .iter()
-        .zip(stress::triangle_stresses(mesh, props, u))
-    {
-        cells.push((CellType::Triangle, t.to_vec()));
+    for (t, s) in triangles.into_iter().zip(view.triangle_stresses()) {
+        cells.push((triangle_type, t));
         stress.push(s.von_mises());
         tissue.push(0.0);
     }
-    let axial = stress::line_stresses(mesh, props, u);
-    for ((l, r), s) in mesh.lines().iter().zip(mesh.line_regions()).zip(axial) {
-        cells.push((CellType::Line, l.to_vec()));
+    let regions = view.mesh.line_regions();
+    for ((l, r), s) in lines.into_iter().zip(regions).zip(view.line_stresses()) {
+        cells.push((line_type, l));
         stress.push(s);
         tissue.push(f64::from(*r) + 1.0);
     }
@@ -183,37 +204,48 @@ mod tests {
         }
     }
 
-    /// Triangles and membrane lines both arrive, each with its stress and tissue.
+    /// Triangles and membrane lines both arrive, each with its stress and tissue, for
+    /// either element: 6-node triangles with all their nodes and displacements.
     #[test]
     fn abdomen_writes_triangles_and_lines_with_their_tissue() {
-        let mut a = Abdomen::new();
-        a.set("target_triangles", 300.0).unwrap();
-        a.initialize(0.0).unwrap();
-        let u = a.static_displacement(0.5).unwrap();
-        let (mesh, props, _) = a.field().unwrap();
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("abdomen.vtu");
-        abdomen(&path, mesh, props, &u).unwrap();
-        let DataSet::UnstructuredGrid { pieces, .. } = Vtk::import(&path).unwrap().data else {
-            panic!("an unstructured grid")
-        };
-        let piece = pieces[0].load_piece_data(None).unwrap();
-        let (tris, lines) = (mesh.triangles().len(), mesh.lines().len());
-        assert_eq!(piece.cells.types.len(), tris + lines);
-        assert_eq!(piece.cells.types[tris], CellType::Line);
-        let Attribute::DataArray(t) = &piece.data.cell[1] else {
-            panic!("tissue is a data array")
-        };
-        let IOBuffer::F64(tissue) = &t.data else {
-            panic!("f64 data")
-        };
-        assert!(tissue[..tris].iter().all(|&x| x == 0.0));
-        for region in 1..=3 {
-            let n = tissue[tris..]
-                .iter()
-                .filter(|&&x| x == f64::from(region))
-                .count();
-            assert!(n > 0, "membrane {region} has lines");
+        for (element, types) in [
+            ("tri3", (CellType::Triangle, CellType::Line)),
+            (
+                "tri6",
+                (CellType::QuadraticTriangle, CellType::QuadraticEdge),
+            ),
+        ] {
+            let mut a = Abdomen::new();
+            a.set("target_triangles", 300.0).unwrap();
+            a.set_str("element", element).unwrap();
+            a.initialize(0.0).unwrap();
+            let u = a.static_displacement(0.5).unwrap();
+            let view = a.view(&u).unwrap();
+            let dir = tempfile::tempdir().unwrap();
+            let path = dir.path().join("abdomen.vtu");
+            abdomen(&path, &view).unwrap();
+            let DataSet::UnstructuredGrid { pieces, .. } = Vtk::import(&path).unwrap().data else {
+                panic!("an unstructured grid")
+            };
+            let piece = pieces[0].load_piece_data(None).unwrap();
+            let (tris, lines) = (view.mesh.triangles().len(), view.mesh.lines().len());
+            assert_eq!(piece.cells.types.len(), tris + lines);
+            assert_eq!((piece.cells.types[0], piece.cells.types[tris]), types);
+            assert_eq!(3 * piece.points.len() / 3, 3 * u.len() / 2, "{element}");
+            let Attribute::DataArray(t) = &piece.data.cell[1] else {
+                panic!("tissue is a data array")
+            };
+            let IOBuffer::F64(tissue) = &t.data else {
+                panic!("f64 data")
+            };
+            assert!(tissue[..tris].iter().all(|&x| x == 0.0));
+            for region in 1..=3 {
+                let n = tissue[tris..]
+                    .iter()
+                    .filter(|&&x| x == f64::from(region))
+                    .count();
+                assert!(n > 0, "membrane {region} has lines");
+            }
         }
     }
 }

@@ -164,7 +164,7 @@ pub fn stability() -> Vec<Stability> {
             let observe = |s: &mut InProcess<Abdomen>, _| {
                 let u =
                     s.0.field()
-                        .map_or(0.0, |f| f.2.iter().fold(0.0f64, |a, b| a.max(b.abs())));
+                        .map_or(0.0, |f| f.u.iter().fold(0.0f64, |a, b| a.max(b.abs())));
                 peak = peak.max(u);
                 Ok(())
             };

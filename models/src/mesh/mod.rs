@@ -6,7 +6,7 @@
 
 pub mod cut;
 pub mod generate;
-mod mid_edges;
+pub(crate) mod mid_edges;
 mod node_sets;
 mod plane;
 mod quadratic;
@@ -20,6 +20,11 @@ pub use quadratic_plane::QuadraticPlaneMesh;
 pub use solid::{BoundaryFace, Mesh3d};
 
 use crate::error::ModelError;
+
+/// The dofs (x, y of each node) of a 2D element with nodes `nodes`: D = 2N.
+pub fn plane_dofs<const N: usize, const D: usize>(nodes: &[usize; N]) -> [usize; D] {
+    std::array::from_fn(|k| 2 * nodes[k / 2] + k % 2)
+}
 
 /// Checks that every element node index is in range and every node is used.
 fn check_connectivity<const N: usize>(

@@ -161,14 +161,12 @@ impl Mesh2d {
 
     /// Global dofs of triangle `i` in element order.
     pub fn triangle_dofs(&self, i: usize) -> [usize; 6] {
-        let t = self.triangles[i];
-        std::array::from_fn(|k| 2 * t[k / 2] + k % 2)
+        super::plane_dofs(&self.triangles[i])
     }
 
     /// Global dofs of line element `i` in element order.
     pub fn line_dofs(&self, i: usize) -> [usize; 4] {
-        let l = self.lines[i];
-        std::array::from_fn(|k| 2 * l[k / 2] + k % 2)
+        super::plane_dofs(&self.lines[i])
     }
 }
 

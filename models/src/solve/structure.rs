@@ -164,8 +164,14 @@ impl Structure {
     /// Makes the structure finite-strain: the stiffness term becomes `forces` (K stays the
     /// tangent at u = 0, for the first factorization of a step's Newton iterations).
     pub fn with_internal_forces(mut self, forces: Arc<InternalForces>) -> Self {
-        self.internal = Some(forces);
+        self.set_internal_forces(forces);
         self
+    }
+
+    /// Replaces the internal forces of a finite-strain structure (after a parameter change;
+    /// [`set_stiffness`](Self::set_stiffness) gives the matching tangent at u = 0).
+    pub fn set_internal_forces(&mut self, forces: Arc<InternalForces>) {
+        self.internal = Some(forces);
     }
 
     /// Whether the stiffness term is nonlinear (finite strain).

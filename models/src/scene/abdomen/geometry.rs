@@ -105,15 +105,16 @@ fn dense_curve(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
     out
 }
 
-/// Resamples a polyline at equal arc-length steps of about `h` (at least one segment).
-fn resample(curve: &[[f64; 2]], h: f64) -> Vec<[f64; 2]> {
+/// Resamples a polyline at equal arc-length steps of about `h` (at least one segment), each
+/// step then split into 2^`subdivisions`.
+fn resample(curve: &[[f64; 2]], h: f64, subdivisions: u32) -> Vec<[f64; 2]> {
     let mut cumulative = vec![0.0];
     for w in curve.windows(2) {
         let l = (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]);
         cumulative.push(cumulative.last().unwrap() + l);
     }
     let total = *cumulative.last().unwrap();
-    let segments = ((total / h).round() as usize).max(1);
+    let segments = ((total / h).round() as usize).max(1) << subdivisions;
     let mut out = Vec::with_capacity(segments + 1);
     let mut j = 0;
     for k in 0..=segments {
@@ -150,6 +151,16 @@ impl Boundary {
     /// one ends, the last ending where the first starts), samples each spline at spacing
     /// `h` and checks that the closed curve neither crosses itself nor runs clockwise.
     pub fn new(points: &ControlPoints, h: f64) -> Result<Self, SceneError> {
+        Self::subdivided(points, h, 0)
+    }
+
+    /// The boundary of [`new`](Self::new) with each segment split into 2^`subdivisions`
+    /// equal arc-length pieces on the curve: vertex k · 2^subdivisions is vertex k of `new`.
+    pub fn subdivided(
+        points: &ControlPoints,
+        h: f64,
+        subdivisions: u32,
+    ) -> Result<Self, SceneError> {
         let parts = points.parts();
         let scale = parts
             .iter()
@@ -187,7 +198,7 @@ impl Boundary {
         let mut vertices = Vec::new();
         let mut segment_part = Vec::new();
         for (i, part) in parts.iter().enumerate() {
-            let sampled = resample(&dense_curve(part), h);
+            let sampled = resample(&dense_curve(part), h, subdivisions);
             vertices.extend_from_slice(&sampled[..sampled.len() - 1]);
             segment_part.extend(std::iter::repeat_n(i, sampled.len() - 1));
         }

@@ -6,9 +6,11 @@ use spade::{
     AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
 };
 
+use super::discretization::Element;
 use super::geometry::{Boundary, ControlPoints, PARTS};
 use crate::budget;
 use crate::element::tri3;
+use crate::mesh::mid_edges::MidEdges;
 use crate::mesh::Mesh2d;
 use crate::scene::SceneError;
 
@@ -28,6 +30,10 @@ const AREA_BOUND: f64 = 1.6;
 /// copies (stiffness, mass and damping in full and reduced, effective matrix), plus the
 /// 6 × 6 scatter map and the mesher's own vertices and faces.
 const BYTES_PER_TRIANGLE: usize = 14 * (8 + 8 * 8) + 36 * 8 + 200;
+/// The same for 6-node triangles: two nodes per triangle (a corner's half and three
+/// mid-edge halves), about 92 stored entries per triangle (a corner couples with about 19
+/// nodes, a mid-edge node with 9), and the 12 × 12 scatter map.
+const BYTES_PER_TRI6: usize = 92 * (8 + 8 * 8) + 144 * 8 + 200;
 
 /// A meshed cavity with its quality figures.
 #[derive(Debug, Clone)]
@@ -39,18 +45,32 @@ pub struct Meshed {
     pub angle_histogram: [usize; 12],
 }
 
-/// Meshes the outline with about `target_triangles` triangles. Node sets: one per boundary
-/// part (with both end nodes) and the landmarks `diaphragm_apex` (highest diaphragm node),
-/// `floor_mid`, `wall_mid` (middle node of the pelvic floor and abdominal wall).
-pub fn mesh(points: &ControlPoints, target_triangles: usize) -> Result<Meshed, SceneError> {
+/// Meshes the outline with about `target_triangles` triangles, then splits every triangle
+/// into four `subdivisions` times (nested meshes, the new boundary nodes moved onto the
+/// curve), claiming the memory of the mesh and the system of `element` first. Node sets:
+/// one per boundary part (with both end nodes) and the landmarks `diaphragm_apex` (highest
+/// diaphragm node), `floor_mid`, `wall_mid` (middle node of the pelvic floor and abdominal
+/// wall) — landmarks are nodes of the unsplit mesh, so they stay put under subdivision.
+pub fn mesh(
+    points: &ControlPoints,
+    target_triangles: usize,
+    element: Element,
+    subdivisions: u32,
+) -> Result<Meshed, SceneError> {
     if target_triangles < 50 {
         return Err(SceneError::Config(format!(
             "target_triangles = {target_triangles} must be at least 50"
         )));
     }
+    let per_triangle = match element {
+        Element::Tri3 => BYTES_PER_TRIANGLE,
+        Element::Tri6 => BYTES_PER_TRI6,
+    };
     budget::claim(
         "the abdomen mesh and its sparse system",
-        target_triangles.saturating_mul(BYTES_PER_TRIANGLE),
+        target_triangles
+            .saturating_mul(per_triangle)
+            .saturating_mul(1 << (2 * subdivisions.min(16))),
     )?;
     let coarse = Boundary::new(points, 1.0)?;
     let area = coarse.signed_area();
@@ -61,6 +81,43 @@ pub fn mesh(points: &ControlPoints, target_triangles: usize) -> Result<Meshed, S
     let mean = area / target_triangles as f64;
     let h = (4.0 * mean / 3f64.sqrt()).sqrt();
     let boundary = Boundary::new(points, BOUNDARY_SPACING * h)?;
+    let (mut nodes, mut triangles, mut ring) = triangulate(&boundary, target_triangles, mean)?;
+    for _ in 0..subdivisions {
+        split(&mut nodes, &mut triangles, &mut ring);
+    }
+    let fine = Boundary::subdivided(points, BOUNDARY_SPACING * h, subdivisions)?;
+    debug_assert_eq!(fine.vertices.len(), ring.len());
+    for (&n, &p) in ring.iter().zip(&fine.vertices) {
+        nodes[n] = p;
+    }
+    let mut lines = Vec::new();
+    let mut line_regions = Vec::new();
+    for (i, &part) in fine.segment_part.iter().enumerate() {
+        if let Some(region) = LINE_REGION[part] {
+            lines.push([ring[i], ring[(i + 1) % ring.len()]]);
+            line_regions.push(region);
+        }
+    }
+    let n_tri = triangles.len();
+    let mut mesh = Mesh2d::new(nodes, triangles, vec![0; n_tri], lines, line_regions)?;
+    add_node_sets(&mut mesh, &fine, &ring, 1 << subdivisions)?;
+    let (min_angle, angle_histogram) = quality(&mesh);
+    Ok(Meshed {
+        mesh,
+        min_angle,
+        angle_histogram,
+    })
+}
+
+/// The refined constrained Delaunay triangulation of the sampled boundary: nodes,
+/// counter-clockwise triangles and the boundary vertices' node numbers in boundary order.
+type Triangulated = (Vec<[f64; 2]>, Vec<[usize; 3]>, Vec<usize>);
+
+fn triangulate(
+    boundary: &Boundary,
+    target_triangles: usize,
+    mean: f64,
+) -> Result<Triangulated, SceneError> {
     let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::new();
     let mut handles = Vec::with_capacity(boundary.vertices.len());
     for v in &boundary.vertices {
@@ -100,47 +157,62 @@ pub fn mesh(points: &ControlPoints, target_triangles: usize) -> Result<Meshed, S
         }
         triangles.push(t);
     }
-    let index = |i: usize| handles[i % n].index();
-    let mut lines = Vec::new();
-    let mut line_regions = Vec::new();
-    for (i, &part) in boundary.segment_part.iter().enumerate() {
-        if let Some(region) = LINE_REGION[part] {
-            lines.push([index(i), index(i + 1)]);
-            line_regions.push(region);
-        }
-    }
-    let n_tri = triangles.len();
-    let mut mesh = Mesh2d::new(nodes, triangles, vec![0; n_tri], lines, line_regions)?;
-    add_node_sets(&mut mesh, &boundary, &index)?;
-    let (min_angle, angle_histogram) = quality(&mesh);
-    Ok(Meshed {
-        mesh,
-        min_angle,
-        angle_histogram,
-    })
+    let ring = handles.iter().map(|h| h.index()).collect();
+    Ok((nodes, triangles, ring))
 }
 
+/// Splits every triangle into four at its edge midpoints (the children keep the parent's
+/// orientation and angles), and each boundary segment of `ring` into two.
+fn split(nodes: &mut Vec<[f64; 2]>, triangles: &mut Vec<[usize; 3]>, ring: &mut Vec<usize>) {
+    let mut mid = MidEdges::with_capacity(3 * triangles.len() / 2 + ring.len());
+    *triangles = triangles
+        .iter()
+        .flat_map(|&[a, b, c]| {
+            let ab = mid.node(a, b, nodes);
+            let bc = mid.node(b, c, nodes);
+            let ca = mid.node(c, a, nodes);
+            [[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]
+        })
+        .collect();
+    let n = ring.len();
+    *ring = (0..n)
+        .flat_map(|i| [ring[i], mid.node(ring[i], ring[(i + 1) % n], nodes)])
+        .collect();
+}
+
+/// The node sets of the boundary parts and the landmarks; `ring` holds the node of each
+/// boundary vertex, `stride` boundary vertices per vertex of the unsplit mesh.
 fn add_node_sets(
     mesh: &mut Mesh2d,
     boundary: &Boundary,
-    index: &dyn Fn(usize) -> usize,
+    ring: &[usize],
+    stride: usize,
 ) -> Result<(), SceneError> {
+    let index = |i: usize| ring[i % ring.len()];
     for (p, name) in PARTS.iter().enumerate() {
         let segments: Vec<usize> = (0..boundary.segment_part.len())
             .filter(|&i| boundary.segment_part[i] == p)
             .collect();
-        let mut nodes: Vec<usize> = segments
+        let nodes: Vec<usize> = segments
             .iter()
             .flat_map(|&i| [index(i), index(i + 1)])
             .collect();
-        let middle = index(segments[segments.len() / 2]);
-        mesh.add_node_set(name, nodes.clone())?;
+        // Landmarks among the unsplit mesh's vertices.
+        let coarse: Vec<usize> = segments
+            .iter()
+            .copied()
+            .filter(|i| i % stride == 0)
+            .collect();
+        let middle = index(coarse[coarse.len() / 2]);
+        mesh.add_node_set(name, nodes)?;
         match *name {
             "pelvic_floor" => mesh.add_node_set("floor_mid", vec![middle])?,
             "abdominal_wall" => mesh.add_node_set("wall_mid", vec![middle])?,
             "diaphragm" => {
-                nodes.sort_by(|&a, &b| mesh.nodes()[a][1].total_cmp(&mesh.nodes()[b][1]));
-                mesh.add_node_set("diaphragm_apex", vec![*nodes.last().expect("non-empty")])?;
+                let mut vertices: Vec<usize> = coarse.iter().map(|&i| index(i)).collect();
+                vertices.push(index(segments[segments.len() - 1] + 1));
+                vertices.sort_by(|&a, &b| mesh.nodes()[a][1].total_cmp(&mesh.nodes()[b][1]));
+                mesh.add_node_set("diaphragm_apex", vec![*vertices.last().expect("non-empty")])?;
             }
             _ => {}
         }
@@ -176,7 +248,7 @@ mod tests {
     #[test]
     fn default_outline_meshes_near_target_with_quality() {
         let points = Anatomy::default().control_points().unwrap();
-        let m = mesh(&points, 6000).unwrap();
+        let m = mesh(&points, 6000, Element::Tri3, 0).unwrap();
         let n = m.mesh.triangles().len();
         println!(
             "triangles {n}, lines {}, nodes {}, min angle {:.2}°, histogram {:?}",

@@ -20,6 +20,7 @@
 
 pub mod anatomy;
 pub mod config;
+pub mod discretization;
 pub mod geometry;
 pub mod mesher;
 mod model;
@@ -29,20 +30,19 @@ mod variables;
 use std::path::PathBuf;
 
 use config::{PelvisConfig, ANATOMY};
+use discretization::FieldView;
 use mesher::Meshed;
 use model::{properties, Model};
 use variables::{
-    table, FIRST_OUTPUT, INTEGRATOR, MAX_STEP, MEMORY_LIMIT, MODEL_ORDER, PRESS_AMPLITUDE,
-    PRESS_FORCE, PRESS_FREQUENCY, TISSUE_BASE, WALL_SUPPORT,
+    table, ELEMENT, FIRST_OUTPUT, FORMULATION, INTEGRATOR, KINEMATICS, MAX_STEP, MEMORY_LIMIT,
+    MODEL_ORDER, PRESS_AMPLITUDE, PRESS_FORCE, PRESS_FREQUENCY, TISSUE_BASE, WALL_SUPPORT,
 };
 
 use super::{
     check_step, megabytes, GeneratedConfiguration, GeneratorParameter, Scene, SceneError, Values,
     Variable,
 };
-use crate::assembly::plane::PlaneProperties;
 use crate::budget;
-use crate::mesh::Mesh2d;
 use crate::solve::{IntegratorKind, ModalBasis, Structure};
 
 /// Most substeps one communication step may take: a step that would need more is refused
@@ -106,17 +106,32 @@ impl Abdomen {
         Ok(x[0])
     }
 
-    /// The mesh with its quality figures, after initialization.
+    /// The 3-node mesh (for `tri6`, the corners) with its quality figures, after
+    /// initialization.
     pub fn meshed(&self) -> Option<&Meshed> {
-        self.model.as_ref().map(|m| &m.meshed)
+        self.model.as_ref().map(|m| &m.disc.meshed)
     }
 
-    /// The mesh, the properties and the current nodal displacements (all dofs; a modal
-    /// model expands its coordinates here).
-    pub fn field(&mut self) -> Option<(&Mesh2d, &PlaneProperties, &[f64])> {
+    /// The current nodal displacements (all dofs; a modal model expands its coordinates
+    /// here) with the meshes and stresses, after initialization.
+    pub fn field(&mut self) -> Option<FieldView<'_>> {
         let m = self.model.as_mut()?;
         m.expand();
-        Some((&m.meshed.mesh, &m.props, m.u_full()))
+        Some(m.view(m.u_full()))
+    }
+
+    /// A displacement of all dofs, e.g. one from [`Abdomen::static_displacement`], with the
+    /// meshes and stresses.
+    pub fn view<'a>(&'a self, u: &'a [f64]) -> Result<FieldView<'a>, SceneError> {
+        let m = self.built("view")?;
+        if u.len() != m.disc.n_dofs() {
+            return Err(SceneError::InvalidArgument {
+                name: "displacement length",
+                value: u.len() as f64,
+                reason: "must be the model's number of dofs",
+            });
+        }
+        Ok(m.view(u))
     }
 
     /// The reduction basis of a reduced model order (its kind, Ritz values and
@@ -147,6 +162,7 @@ impl Abdomen {
     /// The outputs (table order, from `floor_stress_mean` on) for a displacement field of all
     /// dofs, e.g. one from [`Abdomen::static_displacement`].
     pub fn evaluate(&self, u_full: &[f64], press: f64) -> Result<Vec<f64>, SceneError> {
+        self.view(u_full)?;
         let m = self.built("evaluate")?;
         let field = m.field(u_full);
         Ok(m.outputs.compute(&field, Some(&field), press).to_vec())
@@ -283,6 +299,15 @@ impl Scene for Abdomen {
         }
         if vr == MODEL_ORDER {
             model::order(value)?;
+        }
+        if vr == ELEMENT {
+            discretization::element(value)?;
+        }
+        if vr == FORMULATION {
+            discretization::formulation(value)?;
+        }
+        if vr == KINEMATICS {
+            discretization::finite(value)?;
         }
         self.values.set_string(vr, value)
     }

@@ -7,27 +7,26 @@
 use std::path::Path;
 
 use super::config::PelvisConfig;
-use super::mesher::{self, Meshed};
+use super::discretization::{self, Choice, Discretization, FieldView, Recovery};
+use super::mesher;
 use super::outputs::{self, Field, OutputPlan, Rows};
 use super::variables::{
-    tissue_vr, CONFIGURATION, INTEGRATOR, MODEL_ORDER, MODES, TARGET_TRIANGLES, TISSUES,
-    WALL_SUPPORT,
+    tissue_vr, CONFIGURATION, ELEMENT, FORMULATION, INTEGRATOR, KINEMATICS, MODEL_ORDER, MODES,
+    SUBDIVISIONS, TARGET_TRIANGLES, TISSUES, WALL_SUPPORT,
 };
-use crate::assembly::plane::{self, Continuum, PlaneProperties, Truss};
-use crate::assembly::{loads, Assembler, Dirichlet};
+use crate::assembly::plane::{Continuum, PlaneProperties, Truss};
+use crate::assembly::Dirichlet;
 use crate::element::Elastic;
-use crate::mesh::Mesh2d;
 use crate::scene::{SceneError, Values};
+use crate::solve::newton::{Newton, Settings};
 use crate::solve::{
     Damping, Factorization, Integrator, IntegratorKind, ModalBasis, Reduction, Statics, Structure,
 };
-use crate::stress::TriangleStresses;
 
 /// Everything built at initialization.
 pub struct Model {
-    pub meshed: Meshed,
+    pub disc: Discretization,
     pub props: PlaneProperties,
-    asm: Assembler,
     k: Vec<f64>,
     /// The full system on the free dofs.
     pub structure: Structure,
@@ -41,8 +40,8 @@ pub struct Model {
     expanded: bool,
     /// Free-dof scratch for expanding modal coordinates.
     u_free: Vec<f64>,
-    /// Stress operators of the triangles for the current properties.
-    pub stresses: TriangleStresses,
+    /// Stress recovery for the current properties.
+    pub recovery: Recovery,
     pub outputs: OutputPlan,
     /// The reduced system of `model_order = "modal"`.
     pub modal: Option<Modal>,
@@ -63,7 +62,8 @@ pub struct Modal {
 impl std::fmt::Debug for Model {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Model")
-            .field("triangles", &self.meshed.mesh.triangles().len())
+            .field("triangles", &self.disc.mesh().triangles().len())
+            .field("choice", &self.disc.choice)
             .finish()
     }
 }
@@ -96,7 +96,7 @@ fn damping_properties(values: &Values, props: &PlaneProperties) -> PlaneProperti
 }
 
 /// The dofs held fixed: spine and pelvic bone, and the abdominal wall when `fixed`.
-fn supports(mesh: &Mesh2d, wall: &str) -> Result<Vec<usize>, SceneError> {
+fn supports(disc: &Discretization, wall: &str) -> Result<Vec<usize>, SceneError> {
     let mut supported = vec!["spine", "pelvic_bone"];
     match wall {
         "free" => {}
@@ -105,29 +105,34 @@ fn supports(mesh: &Mesh2d, wall: &str) -> Result<Vec<usize>, SceneError> {
     }
     let mut fixed = Vec::new();
     for set in supported {
-        fixed.extend(
-            mesh.node_sets()
-                .get(set)?
-                .iter()
-                .flat_map(|n| [2 * n, 2 * n + 1]),
-        );
+        fixed.extend(disc.boundary_dofs(set)?);
     }
     Ok(fixed)
 }
 
-/// The `modes` parameter as a count; a fractional value is refused.
-fn modes(values: &Values) -> Result<usize, SceneError> {
-    let x = values.real(MODES);
+/// A whole-number parameter (`modes`, `mesh_subdivisions`); a fractional value is refused.
+fn whole(values: &Values, vr: u32, name: &str, reason: &'static str) -> Result<usize, SceneError> {
+    let x = values.real(vr);
     if x.fract() != 0.0 {
         return Err(SceneError::Model(
             crate::error::ModelError::InvalidParameter {
-                name: "modes".into(),
+                name: name.into(),
                 value: x,
-                reason: "must be a whole number of basis vectors",
+                reason,
             },
         ));
     }
     Ok(x as usize)
+}
+
+/// The `modes` parameter as a count.
+fn modes(values: &Values) -> Result<usize, SceneError> {
+    whole(
+        values,
+        MODES,
+        "modes",
+        "must be a whole number of basis vectors",
+    )
 }
 
 /// The reduction of a `model_order` value: `None` for `full`.
@@ -153,18 +158,34 @@ impl Model {
     /// up in `resources`.
     pub fn build(values: &Values, resources: &Path) -> Result<Self, SceneError> {
         let config = PelvisConfig::resolve(values.string(CONFIGURATION)?, resources)?;
+        let choice = Choice::parse(
+            values.string(ELEMENT)?,
+            values.string(FORMULATION)?,
+            values.string(KINEMATICS)?,
+        )?;
         let target = values.real(TARGET_TRIANGLES) as usize;
-        let meshed = mesher::mesh(&config.control_points()?, target)?;
-        let mesh = &meshed.mesh;
+        let subdivisions = whole(
+            values,
+            SUBDIVISIONS,
+            "mesh_subdivisions",
+            "must be a whole number of subdivisions",
+        )?;
+        let meshed = mesher::mesh(
+            &config.control_points()?,
+            target,
+            choice.element,
+            subdivisions as u32,
+        )?;
+        let disc = Discretization::new(meshed, choice);
         let props = properties(values)?;
-        let asm = plane::assembler(mesh);
+        let asm = &disc.asm;
         let (mut k, mut m, mut c) = (asm.zeros(), asm.zeros(), asm.zeros());
-        plane::stiffness(mesh, &asm, &props, &mut k);
-        plane::mass(mesh, &asm, &props, &mut m);
-        plane::mass(mesh, &asm, &damping_properties(values, &props), &mut c);
-        let lumped = plane::lumped_mass(mesh, &props);
-        let fixed = supports(mesh, values.string(WALL_SUPPORT)?)?;
-        let bc = Dirichlet::new(&asm, &fixed)?;
+        disc.stiffness(&props, &mut k);
+        disc.mass(&props, &mut m);
+        disc.mass(&damping_properties(values, &props), &mut c);
+        let lumped = disc.lumped_mass(&props);
+        let fixed = supports(&disc, values.string(WALL_SUPPORT)?)?;
+        let bc = Dirichlet::new(asm, &fixed)?;
         let mut structure = Structure::new(
             bc,
             &k,
@@ -174,17 +195,19 @@ impl Model {
             Factorization::Simplicial,
         )?;
         structure.set_damping_matrix(&c);
-        let unit_load = diaphragm_unit_load(mesh, structure.dirichlet())?;
+        if let Some(forces) = disc.internal_forces(&props) {
+            structure = structure.with_internal_forces(forces);
+        }
+        let unit_load = diaphragm_unit_load(&disc, structure.dirichlet());
         let kind = IntegratorKind::parse(values.string(INTEGRATOR)?)?;
         let mut model = Self {
-            stresses: TriangleStresses::new(mesh, &props),
-            outputs: OutputPlan::new(mesh)?,
-            u_full: vec![0.0; mesh.n_dofs()],
+            recovery: disc.recovery(&props),
+            outputs: OutputPlan::new(disc.mesh())?,
+            u_full: vec![0.0; disc.n_dofs()],
             expanded: true,
             u_free: vec![0.0; structure.n()],
-            meshed,
+            disc,
             props,
-            asm,
             k,
             structure,
             integrator: kind.create(),
@@ -307,10 +330,18 @@ impl Model {
     pub fn field<'a>(&'a self, u: &'a [f64]) -> Field<'a> {
         Field {
             plan: &self.outputs,
-            mesh: &self.meshed.mesh,
-            props: &self.props,
-            stresses: &self.stresses,
+            recovery: &self.recovery,
             u,
+        }
+    }
+
+    /// The displacement `u` (all dofs) with the meshes and stresses, for drawing.
+    pub fn view<'a>(&'a self, u: &'a [f64]) -> FieldView<'a> {
+        FieldView {
+            mesh: self.disc.mesh(),
+            quadratic: self.disc.quadratic(),
+            u,
+            recovery: &self.recovery,
         }
     }
 
@@ -319,9 +350,12 @@ impl Model {
     /// its integrator from the current state projected onto the new basis (q = Φᵀ M u, and
     /// likewise the velocity), under the pressing force `press` acting now.
     pub fn set_properties(&mut self, props: PlaneProperties, press: f64) -> Result<(), SceneError> {
-        plane::stiffness(&self.meshed.mesh, &self.asm, &props, &mut self.k);
+        self.disc.stiffness(&props, &mut self.k);
         self.structure.set_stiffness(&self.k);
-        self.stresses = TriangleStresses::new(&self.meshed.mesh, &props);
+        if let Some(forces) = self.disc.internal_forces(&props) {
+            self.structure.set_internal_forces(forces);
+        }
+        self.recovery = self.disc.recovery(&props);
         self.props = props;
         self.expanded = false;
         let dt = self.integrator.dt();
@@ -350,15 +384,29 @@ impl Model {
         Ok(())
     }
 
-    /// The static displacement (all dofs) under a constant pressing force `force` (N/mm).
+    /// The static displacement (all dofs) under a constant pressing force `force` (N/mm):
+    /// one solve with K, or at finite strain Newton's method (load increments cut back
+    /// where it does not converge).
     pub fn static_displacement(&self, force: f64) -> Result<Vec<f64>, SceneError> {
-        let mut statics = Statics::new(&self.asm, &self.fixed, Factorization::Simplicial)?;
-        statics.factorize(&self.k)?;
-        let mut f = vec![0.0; self.meshed.mesh.n_dofs()];
+        let asm = &self.disc.asm;
+        let mut f = vec![0.0; self.disc.n_dofs()];
         self.structure.dirichlet().expand(&self.unit_load, &mut f);
         f.iter_mut().for_each(|x| *x *= force);
         let mut u = vec![0.0; f.len()];
-        statics.solve(self.asm.matrix(&self.k), &f, &mut u);
+        let materials = discretization::materials(&self.props);
+        if let Some(mut body) = self.disc.body(&materials, &self.props) {
+            let mut newton = Newton::new(
+                asm,
+                &self.fixed,
+                Factorization::Simplicial,
+                Settings::default(),
+            )?;
+            newton.solve(&mut body, &mut u, &vec![0.0; f.len()], &f)?;
+            return Ok(u);
+        }
+        let mut statics = Statics::new(asm, &self.fixed, Factorization::Simplicial)?;
+        statics.factorize(&self.k)?;
+        statics.solve(asm.matrix(&self.k), &f, &mut u);
         Ok(u)
     }
 }
@@ -386,29 +434,15 @@ fn scaled<'a>(
     }
 }
 
+/// Line region of the diaphragm.
+const DIAPHRAGM: u16 = 0;
+
 /// Consistent nodal loads (free dofs) of a unit total force spread as a uniform pressure over
 /// the diaphragm, normal to it and into the cavity.
-fn diaphragm_unit_load(mesh: &Mesh2d, bc: &Dirichlet) -> Result<Vec<f64>, SceneError> {
-    let lines: Vec<[usize; 2]> = mesh
-        .lines()
-        .iter()
-        .zip(mesh.line_regions())
-        .filter(|(_, &r)| r == 0)
-        .map(|(l, _)| *l)
-        .collect();
-    let length: f64 = lines
-        .iter()
-        .map(|l| {
-            let (a, b) = (mesh.nodes()[l[0]], mesh.nodes()[l[1]]);
-            (b[0] - a[0]).hypot(b[1] - a[1])
-        })
-        .sum();
-    let mut f = vec![0.0; mesh.n_dofs()];
-    for l in &lines {
-        // Line elements run in boundary order (counter-clockwise): the cavity lies to the left.
-        loads::edge_pressure(mesh.nodes(), *l, 1.0 / length, &mut f);
-    }
+fn diaphragm_unit_load(disc: &Discretization, bc: &Dirichlet) -> Vec<f64> {
+    let (mut f, length) = disc.line_pressure(DIAPHRAGM, 1.0);
+    f.iter_mut().for_each(|x| *x /= length);
     let mut reduced = vec![0.0; bc.n_free()];
     bc.reduce(&f, &mut reduced);
-    Ok(reduced)
+    reduced
 }

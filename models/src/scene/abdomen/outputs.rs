@@ -12,13 +12,13 @@
 
 use std::ops::Range;
 
-use crate::assembly::plane::PlaneProperties;
+use super::discretization::Recovery;
 use crate::assembly::Dirichlet;
-use crate::element::{line2, tri3};
+use crate::element::tri3;
 use crate::mesh::Mesh2d;
 use crate::scene::SceneError;
 use crate::solve::ModalBasis;
-use crate::stress::{PlaneStress, TriangleStresses};
+use crate::stress::PlaneStress;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 
@@ -58,6 +58,8 @@ pub struct OutputPlan {
 }
 
 impl OutputPlan {
+    /// The plan for the 3-node `mesh` (for `tri6`, its corners: the 6-node triangles and
+    /// lines are numbered as theirs, and straight-sided).
     pub fn new(mesh: &Mesh2d) -> Result<Self, SceneError> {
         let floor_lines = (0..mesh.lines().len())
             .filter(|&i| mesh.line_regions()[i] == FLOOR)
@@ -113,10 +115,7 @@ impl OutputPlan {
             Some(field) => {
                 let mut all = Stats::default();
                 for (i, &area) in self.areas.iter().enumerate() {
-                    all.add(
-                        field.stresses.stress(field.mesh, i, field.u).von_mises(),
-                        area,
-                    );
+                    all.add(field.recovery.triangle(i, field.u).von_mises(), area);
                 }
                 (all.mean(), all.max)
             }
@@ -145,22 +144,17 @@ impl OutputPlan {
 #[derive(Debug, Clone, Copy)]
 pub struct Field<'a> {
     pub plan: &'a OutputPlan,
-    pub mesh: &'a Mesh2d,
-    pub props: &'a PlaneProperties,
-    pub stresses: &'a TriangleStresses,
+    pub recovery: &'a Recovery,
     pub u: &'a [f64],
 }
 
 impl Source for Field<'_> {
     fn floor_stress(&self, k: usize) -> f64 {
-        let i = self.plan.floor_lines[k].0;
-        let young = self.props.trusses[usize::from(FLOOR)].young;
-        let ue = line2::Dofs::from_fn(|a, _| self.u[self.mesh.line_dofs(i)[a]]);
-        line2::axial_stress(&self.mesh.line(i), young, &ue)
+        self.recovery.line(self.plan.floor_lines[k].0, self.u)
     }
 
     fn along_stress(&self, k: usize) -> PlaneStress {
-        self.stresses.stress(self.mesh, self.plan.along[k], self.u)
+        self.recovery.triangle(self.plan.along[k], self.u)
     }
 
     fn point(&self, k: usize) -> f64 {

@@ -23,6 +23,11 @@ pub const PRESS_AMPLITUDE: u32 = 24;
 pub const PRESS_FREQUENCY: u32 = 25;
 pub const PRESS_FORCE: u32 = 26;
 pub const FIRST_OUTPUT: u32 = 27;
+// Added after the outputs (issue 12), so that the earlier value references stay.
+pub const ELEMENT: u32 = 40;
+pub const FORMULATION: u32 = 41;
+pub const KINEMATICS: u32 = 42;
+pub const SUBDIVISIONS: u32 = 43;
 
 /// Value reference of field `field` (0 E, 1 ν or area, 2 density, 3 damping) of a tissue.
 pub fn tissue_vr(tissue: usize, field: u32) -> u32 {
@@ -184,6 +189,11 @@ pub fn table() -> Vec<Variable> {
             1,
             "pressing force applied at the current time",
         ),
+        Variable::string("element", "tri3", "cavity element: `tri3` (3-node triangles, 2-node membranes; lock as ν → 0.5) or `tri6` (6-node triangles, 3-node membranes)"),
+        Variable::string("formulation", "displacement", "`displacement` or, with tri6, `mixed` (element-wise pressure condensed at element level, P2/P0: no locking up to ν = 0.4999)"),
+        Variable::string("kinematics", "linear", "`linear` (small strain) or, with tri6 and the displacement formulation, `finite` (plane-strain neo-Hookean, Newton's method in each Houbolt/Newmark step; membranes stay small-strain)"),
+        Variable::parameter("mesh_subdivisions", Fixed, "1", 0.0, (0.0, 4.0), "times every triangle of the mesh of target_triangles is split into four (new boundary nodes on the curve): nested meshes with 4^n times the triangles, for convergence studies"),
     ]);
+    debug_assert_eq!(t.len(), SUBDIVISIONS as usize + 1);
     t
 }

@@ -1,0 +1,359 @@
+//! How the cavity is discretized (issue 12): the seed's 3-node triangles with 2-node
+//! membranes (seed 003 §5.4.4), or 6-node triangles ([`tri6`]) with 3-node membranes on the
+//! same edge nodes ([`crate::element::line3`]), in the displacement or the mixed P2/P0
+//! formulation; at small strain, or at finite strain (plane-strain total Lagrangian
+//! neo-Hookean, Newton's method within each implicit step).
+//!
+//! The 6-node mesh is derived from the 3-node one: the corners keep their numbers, so node
+//! sets, landmarks and the first 2 · corners entries of a displacement mean the same in both.
+//! The boundary is the same polyline; supports hold the mid-edge nodes of supported boundary
+//! edges too.
+//!
+//! Where each stops being valid: `tri3` locks as ν → 0.5 (0.15 of the beam deflection at
+//! ν = 0.499, `tests/locking.rs`); the displacement `tri6` locks mildly in displacement but
+//! its stresses oscillate at ν ≥ 0.499 — use `mixed` there; `linear` kinematics assume small
+//! strains and rotations; `finite` keeps the membranes small-strain (linear axial stiffness),
+//! valid while they rotate little.
+
+use std::collections::HashSet;
+use std::sync::Arc;
+
+use super::mesher::Meshed;
+use crate::assembly::plane::{self, PlaneProperties};
+use crate::assembly::quadratic_plane::{self, PlaneBody};
+use crate::assembly::{loads, Assembler};
+use crate::element::tri6::{self, Formulation};
+use crate::element::{Law, Material};
+use crate::mesh::{plane_dofs, Mesh2d, QuadraticPlaneMesh};
+use crate::scene::SceneError;
+use crate::solve::structure::InternalForces;
+use crate::stress::{LineStresses, PlaneStress, TriangleStresses};
+
+/// The cavity's element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Element {
+    Tri3,
+    Tri6,
+}
+
+/// Parses the `element` parameter.
+pub fn element(value: &str) -> Result<Element, SceneError> {
+    match value {
+        "tri3" => Ok(Element::Tri3),
+        "tri6" => Ok(Element::Tri6),
+        other => Err(SceneError::Config(format!(
+            "element `{other}`: use `tri3` or `tri6`"
+        ))),
+    }
+}
+
+/// Parses the `formulation` parameter.
+pub fn formulation(value: &str) -> Result<Formulation, SceneError> {
+    match value {
+        "displacement" => Ok(Formulation::Displacement),
+        "mixed" => Ok(Formulation::Mixed),
+        other => Err(SceneError::Config(format!(
+            "formulation `{other}`: use `displacement` or `mixed`"
+        ))),
+    }
+}
+
+/// Parses the `kinematics` parameter: whether it is `finite`.
+pub fn finite(value: &str) -> Result<bool, SceneError> {
+    match value {
+        "linear" => Ok(false),
+        "finite" => Ok(true),
+        other => Err(SceneError::Config(format!(
+            "kinematics `{other}`: use `linear` or `finite`"
+        ))),
+    }
+}
+
+/// The element, formulation and kinematics of a scene, checked together.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Choice {
+    pub element: Element,
+    pub formulation: Formulation,
+    pub finite: bool,
+}
+
+impl Choice {
+    /// The choice of the three parameters; combinations the models do not offer are refused
+    /// with what to set instead.
+    pub fn parse(
+        element_value: &str,
+        formulation_value: &str,
+        kinematics: &str,
+    ) -> Result<Self, SceneError> {
+        let choice = Self {
+            element: element(element_value)?,
+            formulation: formulation(formulation_value)?,
+            finite: finite(kinematics)?,
+        };
+        if choice.element == Element::Tri3 && choice.formulation == Formulation::Mixed {
+            return Err(SceneError::Config(
+                "formulation = `mixed` needs element = `tri6` (the 3-node triangle has no \
+                 pressure to condense; it locks as ν → 0.5)"
+                    .into(),
+            ));
+        }
+        if choice.finite
+            && (choice.element, choice.formulation) != (Element::Tri6, Formulation::Displacement)
+        {
+            return Err(SceneError::Config(format!(
+                "kinematics = `finite` needs element = `tri6` and formulation = `displacement` \
+                 (got `{element_value}`, `{formulation_value}`)"
+            )));
+        }
+        Ok(choice)
+    }
+}
+
+/// The meshed cavity in its chosen discretization, with the assembler of its system.
+#[derive(Debug)]
+pub struct Discretization {
+    /// The 3-node mesh (the corners of a 6-node one) with its quality figures.
+    pub meshed: Meshed,
+    pub choice: Choice,
+    quadratic: Option<Arc<QuadraticPlaneMesh>>,
+    pub asm: Arc<Assembler>,
+}
+
+impl Discretization {
+    pub fn new(meshed: Meshed, choice: Choice) -> Self {
+        let quadratic = (choice.element == Element::Tri6)
+            .then(|| Arc::new(QuadraticPlaneMesh::new(&meshed.mesh)));
+        let asm = Arc::new(match &quadratic {
+            Some(q) => quadratic_plane::assembler(q),
+            None => plane::assembler(&meshed.mesh),
+        });
+        Self {
+            meshed,
+            choice,
+            quadratic,
+            asm,
+        }
+    }
+
+    /// The 3-node mesh (corners).
+    pub fn mesh(&self) -> &Mesh2d {
+        &self.meshed.mesh
+    }
+
+    /// The 6-node mesh, for `tri6`.
+    pub fn quadratic(&self) -> Option<&QuadraticPlaneMesh> {
+        self.quadratic.as_deref()
+    }
+
+    pub fn n_dofs(&self) -> usize {
+        self.asm.n_dofs()
+    }
+
+    /// Writes the (small-strain) stiffness into `values`.
+    pub fn stiffness(&self, props: &PlaneProperties, values: &mut [f64]) {
+        match &self.quadratic {
+            Some(q) => {
+                quadratic_plane::stiffness(q, &self.asm, props, self.choice.formulation, values)
+            }
+            None => plane::stiffness(self.mesh(), &self.asm, props, values),
+        }
+    }
+
+    /// Writes the consistent mass into `values`.
+    pub fn mass(&self, props: &PlaneProperties, values: &mut [f64]) {
+        match &self.quadratic {
+            Some(q) => quadratic_plane::mass(q, &self.asm, props, values),
+            None => plane::mass(self.mesh(), &self.asm, props, values),
+        }
+    }
+
+    /// The lumped mass per dof.
+    pub fn lumped_mass(&self, props: &PlaneProperties) -> Vec<f64> {
+        match &self.quadratic {
+            Some(q) => quadratic_plane::lumped_mass(q, props),
+            None => plane::lumped_mass(self.mesh(), props),
+        }
+    }
+
+    /// The dofs of a boundary node set, with the mid-edge nodes of the boundary edges between
+    /// its nodes for `tri6`.
+    pub fn boundary_dofs(&self, set: &str) -> Result<Vec<usize>, SceneError> {
+        let corners = self.mesh().node_sets().get(set)?;
+        let nodes = match &self.quadratic {
+            Some(q) => boundary_mids(q, corners),
+            None => corners.to_vec(),
+        };
+        Ok(nodes.iter().flat_map(|n| [2 * n, 2 * n + 1]).collect())
+    }
+
+    /// Consistent nodal loads (all dofs) of a uniform pressure `p` on the line elements of
+    /// region `region`, normal to them and to their left (into the cavity: the lines run
+    /// counter-clockwise), and the lines' total length.
+    pub fn line_pressure(&self, region: u16, p: f64) -> (Vec<f64>, f64) {
+        let mesh = self.mesh();
+        let mut f = vec![0.0; self.n_dofs()];
+        let mut length = 0.0;
+        for (i, &r) in mesh.line_regions().iter().enumerate() {
+            if r != region {
+                continue;
+            }
+            let [a, b] = mesh.line(i);
+            length += (b[0] - a[0]).hypot(b[1] - a[1]);
+            match &self.quadratic {
+                Some(q) => loads::quadratic_edge_pressure(q.nodes(), q.lines()[i], p, &mut f),
+                None => loads::edge_pressure(mesh.nodes(), mesh.lines()[i], p, &mut f),
+            }
+        }
+        (f, length)
+    }
+
+    /// The stress recovery for `props`.
+    pub fn recovery(&self, props: &PlaneProperties) -> Recovery {
+        match &self.quadratic {
+            Some(q) => Recovery {
+                triangles: TriangleStresses::quadratic(q, props, self.choice.formulation),
+                lines: LineStresses::quadratic(q, props),
+                finite: self
+                    .choice
+                    .finite
+                    .then(|| (q.clone(), materials(props).into())),
+            },
+            None => Recovery {
+                triangles: TriangleStresses::new(self.mesh(), props),
+                lines: LineStresses::new(self.mesh(), props),
+                finite: None,
+            },
+        }
+    }
+
+    /// The internal forces at finite strain for `props` (None for linear kinematics).
+    pub fn internal_forces(&self, props: &PlaneProperties) -> Option<Arc<InternalForces>> {
+        let q = self.quadratic.as_ref().filter(|_| self.choice.finite)?;
+        Some(quadratic_plane::internal_forces(
+            q.clone(),
+            self.asm.clone(),
+            materials(props).into(),
+            props.trusses.clone().into(),
+        ))
+    }
+
+    /// The finite-strain body for a static Newton solve (None for linear kinematics).
+    pub fn body<'a>(
+        &'a self,
+        materials: &'a [Material],
+        props: &'a PlaneProperties,
+    ) -> Option<PlaneBody<'a>> {
+        let q = self.quadratic.as_deref().filter(|_| self.choice.finite)?;
+        Some(PlaneBody {
+            mesh: q,
+            asm: &self.asm,
+            materials,
+            trusses: &props.trusses,
+        })
+    }
+}
+
+/// The neo-Hookean materials of the triangle regions (finite kinematics).
+pub fn materials(props: &PlaneProperties) -> Vec<Material> {
+    props
+        .continua
+        .iter()
+        .map(|c| Material::new(Law::NeoHookean, c.elastic))
+        .collect()
+}
+
+/// `corners` with the mid-edge nodes of the boundary edges (edges of one triangle) between
+/// two of them.
+fn boundary_mids(q: &QuadraticPlaneMesh, corners: &[usize]) -> Vec<usize> {
+    let inside: HashSet<usize> = corners.iter().copied().collect();
+    let mut count = std::collections::HashMap::<usize, u8>::new();
+    for t in q.triangles() {
+        for (k, [a, b]) in tri6::EDGES.iter().enumerate() {
+            if inside.contains(&t[*a]) && inside.contains(&t[*b]) {
+                *count.entry(t[3 + k]).or_default() += 1;
+            }
+        }
+    }
+    let mut mids: Vec<usize> = count
+        .into_iter()
+        .filter(|&(_, c)| c == 1)
+        .map(|(m, _)| m)
+        .collect();
+    mids.sort_unstable();
+    let mut nodes = corners.to_vec();
+    nodes.extend(mids);
+    nodes
+}
+
+/// Stresses from a displacement of all dofs: the membranes' axial stress and the
+/// triangles' stress at their centroids — small-strain operators, or at finite strain the
+/// Cauchy stress of the neo-Hookean law.
+#[derive(Debug, Clone)]
+pub struct Recovery {
+    triangles: TriangleStresses,
+    lines: LineStresses,
+    finite: Option<(Arc<QuadraticPlaneMesh>, Arc<[Material]>)>,
+}
+
+impl Recovery {
+    /// The stress of triangle `i`; NaN components if it is inverted at finite strain.
+    pub fn triangle(&self, i: usize, u: &[f64]) -> PlaneStress {
+        let Some((q, materials)) = &self.finite else {
+            return self.triangles.stress(i, u);
+        };
+        let dofs = plane_dofs::<6, 12>(&q.triangles()[i]);
+        let ue = tri6::Dofs::from_fn(|k, _| u[dofs[k]]);
+        let material = &materials[usize::from(q.triangle_regions()[i])];
+        match tri6::cauchy(&q.triangle(i), [1.0 / 3.0; 3], &ue, material) {
+            Ok(s) => PlaneStress {
+                xx: s[(0, 0)],
+                yy: s[(1, 1)],
+                xy: s[(0, 1)],
+                zz: s[(2, 2)],
+            },
+            Err(_) => PlaneStress {
+                xx: f64::NAN,
+                yy: f64::NAN,
+                xy: f64::NAN,
+                zz: f64::NAN,
+            },
+        }
+    }
+
+    /// The axial stress of line `i` (MPa, tension > 0).
+    pub fn line(&self, i: usize, u: &[f64]) -> f64 {
+        self.lines.stress(i, u)
+    }
+}
+
+/// A displacement of all dofs with the mesh and the stresses it gives, for drawing and
+/// export: the 3-node mesh (its nodes are the first nodes of the 6-node one), the 6-node
+/// mesh for `tri6`.
+#[derive(Debug, Clone, Copy)]
+pub struct FieldView<'a> {
+    pub mesh: &'a Mesh2d,
+    pub quadratic: Option<&'a QuadraticPlaneMesh>,
+    pub u: &'a [f64],
+    pub(super) recovery: &'a Recovery,
+}
+
+impl FieldView<'_> {
+    /// The stress of every triangle (at its centroid).
+    pub fn triangle_stresses(&self) -> Vec<PlaneStress> {
+        (0..self.mesh.triangles().len())
+            .map(|i| self.recovery.triangle(i, self.u))
+            .collect()
+    }
+
+    /// The axial stress of every line element.
+    pub fn line_stresses(&self) -> Vec<f64> {
+        (0..self.mesh.lines().len())
+            .map(|i| self.recovery.line(i, self.u))
+            .collect()
+    }
+
+    /// The displacement of node `n` (a corner: valid for both meshes).
+    pub fn displacement(&self, n: usize) -> [f64; 2] {
+        [self.u[2 * n], self.u[2 * n + 1]]
+    }
+}

@@ -1,0 +1,245 @@
+//! The abdomen scene's discretizations (issue 12): `element` tri3 | tri6, `formulation`
+//! displacement | mixed, `kinematics` linear | finite — checked choices, supports on the
+//! mid-edge nodes, locking, finite strain against small strain at small loads, and the
+//! reduced order on 6-node triangles.
+
+use models::scene::abdomen::Abdomen;
+use models::scene::{Scene, SceneError};
+
+fn scene(strings: &[(&str, &str)], reals: &[(&str, f64)]) -> Result<Abdomen, SceneError> {
+    let mut s = Abdomen::new();
+    for (k, v) in strings {
+        s.set_str(k, v)?;
+    }
+    for (k, v) in reals {
+        s.set(k, *v)?;
+    }
+    s.initialize(0.0)?;
+    Ok(s)
+}
+
+/// The static outputs (table order, from `floor_stress_mean`) under a press of `press`.
+fn static_outputs(s: &Abdomen, press: f64) -> Vec<f64> {
+    let u = s.static_displacement(press).unwrap();
+    s.evaluate(&u, press).unwrap()
+}
+
+/// Indices into [`static_outputs`].
+const FLOOR_MEAN: usize = 0;
+const APEX_UY: usize = 7;
+
+#[test]
+fn element_choices_are_checked_with_clear_errors() {
+    let mut s = Abdomen::new();
+    for (name, bad) in [
+        ("element", "tri4"),
+        ("formulation", "hybrid"),
+        ("kinematics", "large"),
+    ] {
+        let e = s.set_str(name, bad).unwrap_err().to_string();
+        assert!(e.contains(name) && e.contains(bad), "{e}");
+    }
+    let refused = [
+        (vec![("formulation", "mixed")], "needs element = `tri6`"),
+        (vec![("kinematics", "finite")], "needs element = `tri6`"),
+        (
+            vec![
+                ("element", "tri6"),
+                ("formulation", "mixed"),
+                ("kinematics", "finite"),
+            ],
+            "formulation = `displacement`",
+        ),
+        (
+            vec![
+                ("element", "tri6"),
+                ("kinematics", "finite"),
+                ("model_order", "modal"),
+            ],
+            "finite strain",
+        ),
+    ];
+    for (strings, expected) in refused {
+        let e = scene(&strings, &[("target_triangles", 300.0)])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(expected), "{strings:?}: {e}");
+    }
+    // An explicit scheme cannot step finite strain; the error says so at the first step.
+    let mut s = scene(
+        &[
+            ("element", "tri6"),
+            ("kinematics", "finite"),
+            ("integrator", "central_difference"),
+        ],
+        &[("target_triangles", 300.0), ("max_step", 1e-5)],
+    );
+    let e = match &mut s {
+        Ok(s) => s.do_step(0.0, 1e-5).unwrap_err().to_string(),
+        Err(e) => e.to_string(),
+    };
+    assert!(e.contains("finite strain"), "{e}");
+}
+
+/// Spine and pelvic bone are polylines of n corners each: with 6-node triangles their n − 1
+/// edges' mid-edge nodes are held too, and nothing else is.
+#[test]
+fn supports_hold_the_mid_edge_nodes_of_supported_edges() {
+    let s = scene(&[("element", "tri6")], &[("target_triangles", 1500.0)]).unwrap();
+    let u = s.static_displacement(0.8).unwrap();
+    let sets = s.meshed().unwrap().mesh.node_sets();
+    let corners = sets.get("spine").unwrap().len() + sets.get("pelvic_bone").unwrap().len();
+    let held = u.chunks(2).filter(|d| d[0] == 0.0 && d[1] == 0.0).count();
+    assert_eq!(held, corners + corners - 2);
+}
+
+/// At ν → 0.5 the 3-node triangles lock (the apex barely moves), the mixed 6-node ones do
+/// not: their displacement hardly changes from ν = 0.49 to 0.4999.
+#[test]
+fn the_mixed_element_does_not_lock_where_linear_triangles_do() {
+    let apex = |element: &str, formulation: &str, nu: f64| {
+        let s = scene(
+            &[("element", element), ("formulation", formulation)],
+            &[("target_triangles", 1500.0), ("cavity_nu", nu)],
+        )
+        .unwrap();
+        static_outputs(&s, 0.8)[APEX_UY]
+    };
+    let mixed = [apex("tri6", "mixed", 0.49), apex("tri6", "mixed", 0.4999)];
+    let tri3 = [
+        apex("tri3", "displacement", 0.49),
+        apex("tri3", "displacement", 0.4999),
+    ];
+    println!("apex u_y at nu 0.49, 0.4999: mixed {mixed:?}, tri3 {tri3:?}");
+    // Between ν = 0.49 and 0.4999 the bulk modulus grows 100-fold but is already 50 times the
+    // shear modulus: the compliance changes by a few per cent of its volumetric part at most.
+    assert!((mixed[1] / mixed[0] - 1.0).abs() < 0.02, "{mixed:?}");
+    assert!(tri3[1] / tri3[0] < 0.9, "{tri3:?}");
+}
+
+/// Finite strain departs from small strain in proportion to the load (the kinematics'
+/// first neglected term), below 1e-3 relative at 0.1 % of the default load, in the static
+/// solution and in Houbolt steps. (At the default load the cavity moves about 90 mm: far
+/// from small strain, see the README.)
+#[test]
+fn finite_strain_departs_from_small_strain_in_proportion_to_the_load() {
+    let tri6 = |kinematics: &str, amplitude: f64| {
+        scene(
+            &[("element", "tri6"), ("kinematics", kinematics)],
+            &[
+                ("target_triangles", 600.0),
+                ("press_amplitude", amplitude),
+                ("press_frequency", 2.0),
+            ],
+        )
+        .unwrap()
+    };
+    let (linear, finite) = (tri6("linear", 0.8), tri6("finite", 0.8));
+    let gaps: Vec<[f64; 2]> = [0.0008, 0.0016, 0.8]
+        .iter()
+        .map(|&press| {
+            let (a, b) = (
+                static_outputs(&linear, press),
+                static_outputs(&finite, press),
+            );
+            let gap = [APEX_UY, FLOOR_MEAN].map(|k| (b[k] / a[k] - 1.0).abs());
+            println!(
+                "static press {press} N/mm: relative gap apex u_y, floor stress {:.2e}, {:.2e}",
+                gap[0], gap[1]
+            );
+            gap
+        })
+        .collect();
+    for k in 0..2 {
+        assert!(gaps[0][k] < 1e-3, "{gaps:?}");
+        assert!((gaps[1][k] / gaps[0][k] - 2.0).abs() < 0.1, "{gaps:?}");
+    }
+    let (mut linear, mut finite) = (tri6("linear", 0.0008), tri6("finite", 0.0008));
+    let mut worst: f64 = 0.0;
+    for i in 0..100 {
+        let t = i as f64 * 1e-3;
+        linear.do_step(t, 1e-3).unwrap();
+        finite.do_step(t, 1e-3).unwrap();
+        let (a, b) = (
+            linear.get("apex_uy").unwrap(),
+            finite.get("apex_uy").unwrap(),
+        );
+        worst = worst.max((a - b).abs() / a.abs().max(1e-12));
+    }
+    println!("Houbolt, 100 steps at 0.1 % of the load: worst relative gap {worst:.2e}");
+    assert!(worst < 1e-3, "{worst}");
+}
+
+/// The reduced order works on 6-node triangles: 80 Ritz vectors of the mixed model follow
+/// the full mixed model within 1 % over the first 0.3 s.
+#[test]
+fn modal_order_follows_the_full_order_on_mixed_triangles() {
+    let run = |order: &str| {
+        let mut s = scene(
+            &[
+                ("element", "tri6"),
+                ("formulation", "mixed"),
+                ("model_order", order),
+            ],
+            &[("target_triangles", 600.0), ("cavity_nu", 0.4999)],
+        )
+        .unwrap();
+        (0..300)
+            .map(|i| {
+                s.do_step(i as f64 * 1e-3, 1e-3).unwrap();
+                s.get("apex_uy").unwrap()
+            })
+            .collect::<Vec<_>>()
+    };
+    let (full, modal) = (run("full"), run("modal"));
+    let peak = full.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let worst = full
+        .iter()
+        .zip(&modal)
+        .fold(0.0f64, |a, (f, m)| a.max((f - m).abs()));
+    println!(
+        "modal vs full, mixed tri6: {:.2e} of the peak",
+        worst / peak
+    );
+    assert!(worst < 0.01 * peak, "{worst} of {peak}");
+}
+
+/// `mesh_subdivisions` nests the meshes: each split quadruples the triangles and keeps the
+/// landmarks (the outputs' points) where they were; new boundary nodes lie on the curve,
+/// between their neighbours.
+#[test]
+fn subdivided_meshes_are_nested_and_keep_their_landmarks() {
+    let meshes: Vec<_> = (0..3)
+        .map(|n| {
+            scene(
+                &[],
+                &[
+                    ("target_triangles", 300.0),
+                    ("mesh_subdivisions", f64::from(n)),
+                ],
+            )
+            .unwrap()
+            .meshed()
+            .unwrap()
+            .clone()
+        })
+        .collect();
+    let landmark = |m: &models::scene::abdomen::mesher::Meshed, set: &str| {
+        m.mesh.nodes()[m.mesh.node_sets().get(set).unwrap()[0]]
+    };
+    for pair in meshes.windows(2) {
+        let (coarse, fine) = (&pair[0].mesh, &pair[1].mesh);
+        assert_eq!(fine.triangles().len(), 4 * coarse.triangles().len());
+        assert_eq!(fine.lines().len(), 2 * coarse.lines().len());
+        for set in ["diaphragm_apex", "floor_mid", "wall_mid"] {
+            assert_eq!(landmark(&pair[0], set), landmark(&pair[1], set), "{set}");
+        }
+        // Splitting keeps the angles; moving boundary nodes onto the curve changes them a
+        // little.
+        assert!(pair[1].min_angle > pair[0].min_angle - 5.0);
+    }
+    let e = scene(&[], &[("mesh_subdivisions", 1.5)])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("mesh_subdivisions"), "{e}");
+}
