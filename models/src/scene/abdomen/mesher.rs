@@ -85,7 +85,10 @@ pub fn mesh(
     for _ in 0..subdivisions {
         split(&mut nodes, &mut triangles, &mut ring);
     }
-    let fine = Boundary::subdivided(points, BOUNDARY_SPACING * h, subdivisions)?;
+    let fine = match subdivisions {
+        0 => boundary,
+        _ => Boundary::subdivided(points, BOUNDARY_SPACING * h, subdivisions)?,
+    };
     debug_assert_eq!(fine.vertices.len(), ring.len());
     for (&n, &p) in ring.iter().zip(&fine.vertices) {
         nodes[n] = p;
