@@ -181,7 +181,7 @@ fn shipped_experiments_load() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../experiments");
     let e = Experiment::load(&dir.join("pelvis_sweep.toml")).unwrap();
     assert_eq!(e.cases.len(), 5 + 32 + 5 * 5);
-    assert_eq!(e.metric, "floor_stress_max");
+    assert_eq!(e.metric, "floor_stress_mean");
     let e = Experiment::load(&dir.join("cutblock_sweep.toml")).unwrap();
     assert_eq!(e.cases.len(), 15);
 }

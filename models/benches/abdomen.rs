@@ -1,5 +1,7 @@
-//! Abdomen scene benchmarks on the default configuration (≈ 6,000 triangles, 188 line
-//! elements, Houbolt, dt = 1 ms), full order and modal (80 load-dependent Ritz vectors).
+//! Abdomen scene benchmarks on the default configuration (6-node triangles, ≈ 1,500 of them,
+//! Houbolt, dt = 1 ms), full order and modal (80 load-dependent Ritz vectors); and one step
+//! of each discretization on the mesh where the speed–error study finds the 6-node elements
+//! within about 1 %, with the seed's former default (3-node, ≈ 6,000 triangles) beside it.
 //!
 //! Run: `cargo bench -p models --bench abdomen`.
 
@@ -125,6 +127,60 @@ mod full_order_parts {
         bencher.bench_local(|| {
             x.copy_from_slice(&b);
             chol.solve_in_place(&mut x);
+        });
+    }
+}
+
+/// One full-order Houbolt step (dt = 1 ms, the default press) per discretization: `tri3`,
+/// `tri6`, `mixed` on the nested mesh of the speed–error study that reaches about 1 % (the
+/// 750-triangle base split twice: 12,592 triangles), `tri3 6000` (the default before issue
+/// 12), and `finite` (tri6, finite strain) on the default mesh after 0.3 s of pressing, where
+/// Newton's method has work to do.
+mod discretizations {
+    use super::*;
+
+    const CASES: [&str; 6] = [
+        "tri3 6000",
+        "tri3 12592",
+        "tri6 12592",
+        "mixed 12592",
+        "tri6 1500",
+        "finite 1500",
+    ];
+
+    fn scene(case: &str) -> Abdomen {
+        let (kind, mesh) = case.split_once(' ').unwrap();
+        let mut s = Abdomen::new();
+        let (element, formulation, kinematics) = match kind {
+            "tri3" => ("tri3", "displacement", "linear"),
+            "mixed" => ("tri6", "mixed", "linear"),
+            "finite" => ("tri6", "displacement", "finite"),
+            _ => ("tri6", "displacement", "linear"),
+        };
+        s.set_str("element", element).unwrap();
+        s.set_str("formulation", formulation).unwrap();
+        s.set_str("kinematics", kinematics).unwrap();
+        if mesh == "12592" {
+            s.set("target_triangles", 750.0).unwrap();
+            s.set("mesh_subdivisions", 2.0).unwrap();
+        } else {
+            s.set("target_triangles", mesh.parse().unwrap()).unwrap();
+        }
+        s.initialize(0.0).unwrap();
+        s
+    }
+
+    #[divan::bench(args = CASES, sample_count = 30)]
+    fn step(bencher: Bencher, case: &str) {
+        let mut s = scene(case);
+        let mut t = 0.0;
+        while t < 0.3 {
+            s.do_step(t, 1e-3).unwrap();
+            t += 1e-3;
+        }
+        bencher.bench_local(|| {
+            s.do_step(t, 1e-3).unwrap();
+            t += 1e-3;
         });
     }
 }

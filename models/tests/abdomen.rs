@@ -46,14 +46,17 @@ fn shipped_configurations_run_and_narrow_pelvis_loads_the_floor_less() {
         assert!(p.iter().all(|x| x.is_finite() && *x > 0.0));
         results.push(p);
     }
-    // Seed 003 §5.4: a narrower pelvis gives lower mean and max pelvic-floor stress.
+    // Seed 003 §5.4: a narrower pelvis gives lower mean and max pelvic-floor stress. (The
+    // wide pelvis raises the max further but not the mean, which it spreads over a longer
+    // floor: the seed says nothing about it.)
     let (narrow, normal, wide) = (&results[0], &results[1], &results[2]);
     for k in 0..2 {
         assert!(
-            narrow[k] < normal[k] && normal[k] < wide[k],
+            narrow[k] < normal[k] && narrow[k] < wide[k],
             "{FLOOR:?}[{k}]: {narrow:?} {normal:?} {wide:?}"
         );
     }
+    assert!(normal[1] < wide[1], "{normal:?} {wide:?}");
 }
 
 #[test]
@@ -108,7 +111,8 @@ fn slow_pressing_matches_the_static_solution() {
         "quasi-static: |u_dyn - u_static| / |u_static| = {:.3e}",
         diff / norm
     );
-    // Measured 1.18e-5 (the README quotes 1.2e-5): the bound sits just above it.
+    // Measured 1.18e-5 on the former tri3 defaults, 1.20e-5 on tri6 (the README quotes
+    // 1.2e-5): the bound sits just above it.
     assert!(diff / norm < 1.5e-5, "{}", diff / norm);
 }
 
@@ -127,10 +131,14 @@ fn pelvic_floor_stress_converges_under_refinement() {
         );
         values.push(out[0]);
     }
-    // Each 4× refinement changes the mean floor stress by less than 1 %.
-    for w in values.windows(2) {
-        assert!(((w[1] - w[0]) / w[1]).abs() < 0.01, "{values:?}");
-    }
+    // Converging: each 4× refinement (h halved) changes the mean floor stress at least twice
+    // less than the one before (observed order ≥ 1; 1.2 measured, README), the last by less
+    // than 0.5 %.
+    let change = |i: usize| ((values[i + 1] - values[i]) / values[i + 1]).abs();
+    assert!(
+        change(1) < change(0) / 2.0 && change(1) < 5e-3,
+        "{values:?}"
+    );
 }
 
 #[test]
@@ -305,10 +313,10 @@ fn a_model_above_the_memory_limit_is_refused_before_it_is_built() {
     // The default limit admits the default mesh; the limit also bounds the factorization.
     scene(&[], &[]);
     let mut s = Abdomen::new();
-    s.set("memory_limit", 10.0).unwrap();
+    s.set("memory_limit", 16.0).unwrap();
     let e = s.initialize(0.0).unwrap_err().to_string();
     assert!(
-        e.contains("Cholesky factor") && e.contains("memory_limit = 10 MB"),
+        e.contains("Cholesky factor") && e.contains("memory_limit = 16 MB"),
         "{e}"
     );
 }

@@ -40,8 +40,14 @@ fn element_choices_are_checked_with_clear_errors() {
         assert!(e.contains(name) && e.contains(bad), "{e}");
     }
     let refused = [
-        (vec![("formulation", "mixed")], "needs element = `tri6`"),
-        (vec![("kinematics", "finite")], "needs element = `tri6`"),
+        (
+            vec![("element", "tri3"), ("formulation", "mixed")],
+            "needs element = `tri6`",
+        ),
+        (
+            vec![("element", "tri3"), ("kinematics", "finite")],
+            "needs element = `tri6`",
+        ),
         (
             vec![
                 ("element", "tri6"),
@@ -242,4 +248,70 @@ fn subdivided_meshes_are_nested_and_keep_their_landmarks() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("mesh_subdivisions"), "{e}");
+}
+
+#[test]
+fn the_largest_strain_of_a_uniform_strain_field_is_its_principal_strain() {
+    // u = H x: ε = sym H = [[0.02, 0.02], [0.02, −0.01]], principal strains
+    // 0.005 ± 0.025, the larger magnitude 0.03 — on every triangle of either element.
+    let h = [[0.02, 0.01], [0.03, -0.01]];
+    for element in ["tri3", "tri6"] {
+        let s = scene(&[("element", element)], &[("target_triangles", 300.0)]).unwrap();
+        let zero = s.static_displacement(0.0).unwrap();
+        let view = s.view(&zero).unwrap();
+        let nodes = view.quadratic.map_or(view.mesh.nodes(), |q| q.nodes());
+        let u: Vec<f64> = nodes
+            .iter()
+            .flat_map(|x| h.map(|row| row[0] * x[0] + row[1] * x[1]))
+            .collect();
+        let strain = s.view(&u).unwrap().largest_strain();
+        assert!((strain - 0.03).abs() < 1e-12, "{element}: {strain}");
+    }
+}
+
+#[test]
+fn the_scene_warns_once_where_it_leaves_its_validity() {
+    let strain = |w: &[String]| w.iter().any(|m| m.contains("principal strain"));
+    let locking = |w: &[String]| w.iter().any(|m| m.contains("free of locking"));
+    // The default press strains the defaults beyond 5 % within half a period: one warning.
+    let mut s = scene(&[], &[]).unwrap();
+    assert!(s.take_warnings().is_empty());
+    let mut warnings = Vec::new();
+    for i in 0..50 {
+        s.do_step(i as f64 * 1e-2, 1e-2).unwrap();
+        warnings.extend(s.take_warnings());
+    }
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(strain(&warnings) && warnings[0].contains("kinematics = \"finite\""));
+    // The modal order (which checks a bound before it expands its field) warns at the same
+    // step; under a press a hundred times smaller neither warns.
+    for (amplitude, expected) in [(0.8, &warnings), (0.008, &Vec::new())] {
+        for order in ["full", "modal"] {
+            let mut s =
+                scene(&[("model_order", order)], &[("press_amplitude", amplitude)]).unwrap();
+            let mut seen = Vec::new();
+            for i in 0..50 {
+                s.do_step(i as f64 * 1e-2, 1e-2).unwrap();
+                seen.extend(s.take_warnings());
+            }
+            assert_eq!(&seen, expected, "{order} at {amplitude} N/mm");
+        }
+    }
+    // At finite strain the same load is no reason to warn.
+    let mut s = scene(&[("kinematics", "finite")], &[("target_triangles", 300.0)]).unwrap();
+    for i in 0..50 {
+        s.do_step(i as f64 * 1e-2, 1e-2).unwrap();
+    }
+    assert!(s.take_warnings().is_empty());
+    // Linear triangles lock beyond ν = 0.45 (the default is 0.49); the 6-node displacement element beyond
+    // 0.499, also when ν is raised at run time; the mixed element does not.
+    let mut s = scene(&[("element", "tri3")], &[("press_amplitude", 0.0)]).unwrap();
+    assert!(locking(&s.take_warnings()));
+    let mut s = scene(&[], &[("press_amplitude", 0.0)]).unwrap();
+    assert!(s.take_warnings().is_empty());
+    s.set("cavity_nu", 0.4999).unwrap();
+    s.do_step(0.0, 1e-3).unwrap();
+    assert!(locking(&s.take_warnings()));
+    let mut s = scene(&[("formulation", "mixed")], &[("cavity_nu", 0.4999)]).unwrap();
+    assert!(s.take_warnings().is_empty());
 }

@@ -19,8 +19,12 @@ def test_fields_read_back_with_meshio(tmp_path):
 
     a = meshio.read(out / "abdomen.vtu")
     cells = {c.type: len(c.data) for c in a.cells}
-    assert cells == {"triangle": 5971, "line": 188}  # the default mesh (verification report)
-    assert a.points.shape == (3148, 3) and np.all(a.points[:, 2] == 0.0)
+    # The default mesh (verification report): 6-node triangles, 3-node membrane lines.
+    assert cells == {"triangle6": 1549, "line3": 94}
+    tri6 = next(c.data for c in a.cells if c.type == "triangle6")
+    assert len(np.unique(tri6[:, :3])) == 856  # corner nodes
+    assert len(np.unique(tri6)) == len(a.points)  # every point is a triangle's node
+    assert np.all(a.points[:, 2] == 0.0)
     tissue = np.concatenate(a.cell_data["tissue"])
     assert set(np.unique(tissue)) == {0.0, 1.0, 2.0, 3.0}
     largest = float(re.search(r"largest ([0-9.]+) mm", report).group(1))

@@ -80,15 +80,16 @@ def test_cutblock_with_input_table_reproduces_the_in_process_scene(version, tmp_
 
 
 DISCRETIZATIONS = {
-    "tri3": {},
+    "tri3": {"element": "tri3", "cavity_nu": 0.45},
+    "tri6": {},
     "mixed": {"element": "tri6", "formulation": "mixed", "cavity_nu": 0.4999},
     "finite": {"element": "tri6", "kinematics": "finite"},
 }
 
 
 @pytest.mark.parametrize("order,discretization",
-                         [("full", "tri3"), ("modal", "tri3"), ("modal", "mixed"),
-                          ("full", "finite")])
+                         [("full", "tri6"), ("modal", "tri6"), ("full", "tri3"),
+                          ("modal", "mixed"), ("full", "finite")])
 @pytest.mark.parametrize("version", VERSIONS)
 def test_abdomen_with_shipped_configuration_reproduces_the_in_process_scene(
         version, order, discretization):

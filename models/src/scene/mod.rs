@@ -115,6 +115,10 @@ pub trait Scene: Send {
 /// importer and a second instance.
 pub const DEFAULT_MEMORY_LIMIT_MB: f64 = 8000.0;
 
+/// The largest principal strain a small-strain model (linear law, linear kinematics) is
+/// trusted to, 5 %: beyond it a scene warns, once per run, and names the strain.
+pub const SMALL_STRAIN_LIMIT: f64 = 0.05;
+
 /// The `memory_limit` parameter every scene has: what a build may claim (see
 /// [`crate::budget`]).
 fn memory_limit() -> Variable {

@@ -1,5 +1,5 @@
 //! The abdomen against seed 003: mesh quality, the seed-003 findings with numbers, mesh convergence,
-//! timings.
+//! the defaults before and after issue 12, linear against finite strain, timings.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -115,6 +115,9 @@ pub fn run(out: &mut String) -> Result<()> {
         )?;
     }
 
+    defaults_before_and_after(out)?;
+    linear_and_finite(out)?;
+
     let start = Instant::now();
     let _ = scene(&[], &[])?;
     let setup = start.elapsed().as_secs_f64() * 1e3;
@@ -131,4 +134,100 @@ pub fn run(out: &mut String) -> Result<()> {
         times[times.len() / 2]
     )?;
     Ok(())
+}
+
+/// The largest nodal displacement magnitude (mm) and principal strain of the static solution
+/// under `press` (N/mm).
+fn static_extremes(s: &Abdomen, press: f64) -> Result<(f64, f64)> {
+    let u = s.static_displacement(press)?;
+    let peak = u.chunks(2).map(|d| d[0].hypot(d[1])).fold(0.0, f64::max);
+    Ok((peak, s.view(&u)?.largest_strain()))
+}
+
+/// Issue 12: the static peak displacement and largest strain at the default press on the
+/// defaults before (tri3, ν = 0.45, 6,000 triangles) and now.
+fn defaults_before_and_after(out: &mut String) -> Result<()> {
+    writeln!(
+        out,
+        "   static solution under the default press (0.8 N/mm), defaults before and after issue 12:"
+    )?;
+    let before = scene(
+        &[("element", "tri3")],
+        &[("cavity_nu", 0.45), ("target_triangles", 6000.0)],
+    )?;
+    for (label, s) in [
+        ("before: tri3, ν = 0.45, 6,000 tri", before),
+        ("now: tri6, ν = 0.49, 1,500 tri", scene(&[], &[])?),
+    ] {
+        let (peak, strain) = static_extremes(&s, 0.8)?;
+        writeln!(
+            out,
+            "   {label:<36} peak |u| {peak:7.2} mm, largest principal strain {:5.1} %",
+            100.0 * strain
+        )?;
+    }
+    Ok(())
+}
+
+/// Issue 12: when linear kinematics suffice — static floor stress and apex displacement,
+/// linear against finite strain, at 0.25, 1 and 2 times the default press; then the cost of
+/// finite strain in Houbolt steps at the default press.
+fn linear_and_finite(out: &mut String) -> Result<()> {
+    writeln!(
+        out,
+        "   linear vs finite strain (default tri6 mesh, static): floor stress mean, max (MPa), apex u_y (mm)"
+    )?;
+    let linear = scene(&[], &[])?;
+    let finite = scene(&[("kinematics", "finite")], &[])?;
+    for factor in [0.25, 1.0, 2.0] {
+        let press = 0.8 * factor;
+        let outputs = |s: &Abdomen| -> Result<[f64; 3]> {
+            let o = s.evaluate(&s.static_displacement(press)?, press)?;
+            Ok([o[0], o[1], o[7]])
+        };
+        let l = outputs(&linear)?;
+        let finite = match outputs(&finite) {
+            Ok(f) => {
+                let change: Vec<String> = (0..3)
+                    .map(|k| format!("{:+.1} %", 100.0 * (f[k] - l[k]) / l[k].abs()))
+                    .collect();
+                format!(
+                    "finite {:.5} {:.5} {:7.2} | change {}",
+                    f[0],
+                    f[1],
+                    f[2],
+                    change.join(", ")
+                )
+            }
+            Err(e) => format!("finite: {e:#}"),
+        };
+        writeln!(
+            out,
+            "   {factor:>4} × press: linear {:.5} {:.5} {:7.2} | {finite}",
+            l[0], l[1], l[2]
+        )?;
+    }
+    for kinematics in ["linear", "finite"] {
+        let (step_ms, iterations) = stepping_cost(kinematics)?;
+        writeln!(
+            out,
+            "   {kinematics:<7} Houbolt, dt = 1 ms, 0.5 s of the default press: {step_ms:.2} ms per step, \
+             {iterations:.2} Newton iterations per step"
+        )?;
+    }
+    Ok(())
+}
+
+/// Mean step time (ms) and Newton iterations per step over 0.5 s of the default press at
+/// dt = 1 ms on the default mesh with `kinematics`.
+fn stepping_cost(kinematics: &str) -> Result<(f64, f64)> {
+    let mut s = scene(&[("kinematics", kinematics)], &[])?;
+    let (steps, mut iterations) = (500, 0);
+    let start = Instant::now();
+    for i in 0..steps {
+        s.do_step(f64::from(i) * 1e-3, 1e-3)?;
+        iterations += s.newton_iterations().unwrap_or(0);
+    }
+    let ms = start.elapsed().as_secs_f64() * 1e3 / f64::from(steps);
+    Ok((ms, iterations as f64 / f64::from(steps)))
 }

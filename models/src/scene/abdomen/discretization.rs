@@ -22,6 +22,7 @@ use super::mesher::Meshed;
 use crate::assembly::plane::{self, PlaneProperties};
 use crate::assembly::quadratic_plane::{self, PlaneBody};
 use crate::assembly::{loads, Assembler};
+use crate::element::tri3;
 use crate::element::tri6::{self, Formulation};
 use crate::element::{Law, Material};
 use crate::mesh::{plane_dofs, Mesh2d, QuadraticPlaneMesh};
@@ -355,5 +356,30 @@ impl FieldView<'_> {
     /// The displacement of node `n` (a corner: valid for both meshes).
     pub fn displacement(&self, n: usize) -> [f64; 2] {
         [self.u[2 * n], self.u[2 * n + 1]]
+    }
+
+    /// The largest principal small strain |ε| (ε = sym ∇u) at any triangle's centroid: the
+    /// measure the small-strain limit [`crate::scene::SMALL_STRAIN_LIMIT`] is checked on.
+    pub fn largest_strain(&self) -> f64 {
+        let u = self.u;
+        (0..self.mesh.triangles().len())
+            .map(|i| match self.quadratic {
+                Some(q) => {
+                    let dofs = plane_dofs::<6, 12>(&q.triangles()[i]);
+                    let ue = tri6::Dofs::from_fn(|k, _| u[dofs[k]]);
+                    tri6::b_matrix(&q.triangle(i), [1.0 / 3.0; 3]).0 * ue
+                }
+                None => {
+                    let dofs = self.mesh.triangle_dofs(i);
+                    let ue = tri3::Dofs::from_fn(|k, _| u[dofs[k]]);
+                    tri3::strain(&self.mesh.triangle(i), &ue)
+                }
+            })
+            .map(|e| {
+                // Principal strains c ± r of (ε_xx, ε_yy, γ_xy): the larger magnitude.
+                let c = 0.5 * (e[0] + e[1]);
+                c.abs() + (0.5 * (e[0] - e[1])).hypot(0.5 * e[2])
+            })
+            .fold(0.0, f64::max)
     }
 }

@@ -10,13 +10,38 @@
 //! two steps. Time integration: Houbolt by default (seed 003 App. B.2.2), selectable.
 //!
 //! Tissue properties (mm–N–s–t): four per tissue as in the seed (E, ν or cross-section,
-//! density, damping). Damping is mass-proportional per tissue, C = Σ_t α_t M_t. Defaults:
-//! abdominal wall E = 22.5 kPa, the in-vivo sagittal-plane value of Song et al., Surg Endosc
-//! 20 (2006) 987–990; densities 1e-9 t/mm³ (water). The other stiffnesses, cross-sections
-//! and damping values are assumed orders of magnitude, not taken from a source: cavity
-//! 5 kPa, ν = 0.45; diaphragm 0.2 MPa, 4 mm²/mm; pelvic floor 0.1 MPa, 8 mm²/mm; wall
-//! 20 mm²/mm; α = 5 1/s. The default pressing amplitude 0.8 N/mm corresponds to about 4 kPa
-//! on a 200 mm diaphragm, the bear-down pressure used by Noakes et al., J Biomech 41 (2008).
+//! density, damping). Damping is mass-proportional per tissue, C = Σ_t α_t M_t. Defaults and
+//! where they come from (issue 12):
+//!
+//! - cavity contents E = 5 kPa: the order of the shear stiffness of healthy liver by MR
+//!   elastography, about 2 kPa (Yin et al., Clin Gastroenterol Hepatol 5 (2007) 1207–1213),
+//!   times 3 for a nearly incompressible solid (E = 2G(1 + ν)); the contents are a mix of
+//!   organs, so this is an order of magnitude, not a measured value.
+//! - cavity ν = 0.49: soft tissue is mostly water and nearly incompressible (Fung,
+//!   Biomechanics: Mechanical Properties of Living Tissues, 2nd ed., Springer 1993, ch. 7);
+//!   0.49 keeps the bulk modulus 50 times the shear modulus. Up to 0.499 the default 6-node
+//!   displacement element does not lock; beyond it use `formulation = "mixed"` (the scene warns).
+//! - abdominal wall E = 22.5 kPa: the in-vivo sagittal-plane value of Song et al., Surg Endosc
+//!   20 (2006) 987–990.
+//! - densities 1e-9 t/mm³: water, which soft tissue is within a few per cent of.
+//! - assumed, without a source (orders of magnitude chosen so that the membranes carry part of
+//!   the load; change them for a study): diaphragm E = 0.2 MPa with 4 mm²/mm cross-section,
+//!   pelvic floor E = 0.1 MPa with 8 mm²/mm, abdominal wall 20 mm²/mm, and the damping
+//!   α = 5 1/s for every tissue (seed 003 §5.4.4 names a damping constant per tissue but
+//!   gives no value).
+//! - pressing amplitude 0.8 N/mm: about 4 kPa on a 200 mm diaphragm, the bear-down pressure
+//!   used by Noakes et al., J Biomech 41 (2008); its frequency 0.5 Hz is assumed, a slow press
+//!   (the seed's force is a sinusoid of adjustable amplitude and frequency, values not given).
+//!
+//! Discretization defaults: `element = "tri6"` (6-node triangles, 3-node membranes) with the
+//! displacement formulation on about 1,500 triangles; the seed's 3-node triangles lock at
+//! ν = 0.49. The speed–error study in the default report says which setting reaches which
+//! error.
+//!
+//! Where the scene stops being valid it says so once per run ([`Scene::take_warnings`]):
+//! a principal strain beyond 5 % ([`SMALL_STRAIN_LIMIT`]) at linear kinematics — the
+//! default press takes the scene there, use `kinematics = "finite"` to follow it — and a
+//! ν beyond the element's locking limit.
 
 pub mod anatomy;
 pub mod config;
@@ -30,7 +55,7 @@ mod variables;
 use std::path::PathBuf;
 
 use config::{PelvisConfig, ANATOMY};
-use discretization::FieldView;
+use discretization::{Element, FieldView};
 use mesher::Meshed;
 use model::{properties, Model};
 use variables::{
@@ -40,9 +65,10 @@ use variables::{
 
 use super::{
     check_step, megabytes, GeneratedConfiguration, GeneratorParameter, Scene, SceneError, Values,
-    Variable,
+    Variable, SMALL_STRAIN_LIMIT,
 };
 use crate::budget;
+use crate::element::tri6::Formulation;
 use crate::solve::{IntegratorKind, ModalBasis, Structure};
 
 /// Most substeps one communication step may take: a step that would need more is refused
@@ -60,6 +86,9 @@ pub struct Abdomen {
     outputs: Option<[f64; outputs::COUNT]>,
     stiffness_changed: bool,
     time: f64,
+    /// Warnings not yet taken, and whether the strain warning was given in this run.
+    warnings: Vec<String>,
+    warned_strain: bool,
 }
 
 impl Default for Abdomen {
@@ -83,6 +112,8 @@ impl Abdomen {
             outputs: None,
             stiffness_changed: false,
             time: 0.0,
+            warnings: Vec::new(),
+            warned_strain: false,
         }
     }
 
@@ -148,6 +179,12 @@ impl Abdomen {
         Some((&m.structure, &m.unit_load))
     }
 
+    /// Newton iterations of the last time step (0 at linear kinematics), after
+    /// initialization.
+    pub fn newton_iterations(&self) -> Option<usize> {
+        Some(self.model.as_ref()?.integrator.newton_iterations())
+    }
+
     /// Current simulation time (s).
     pub fn time(&self) -> f64 {
         self.time
@@ -204,7 +241,59 @@ impl Abdomen {
             })?;
         m.set_properties(props, press)?;
         self.stiffness_changed = false;
+        self.check_locking();
         Ok(())
+    }
+
+    /// Where the element locks at the contents' current ν (`tests/locking.rs`,
+    /// `abdomen_elements.rs`): `tri3` beyond 0.45 (at 0.49 the apex of the default scene moves
+    /// 3 % less than on the mixed element), the displacement `tri6` beyond 0.499.
+    fn check_locking(&mut self) {
+        let Some(m) = &self.model else {
+            return;
+        };
+        let nu = self.values.real(TISSUE_BASE + 1);
+        let choice = m.disc.choice;
+        let limit = match (choice.element, choice.formulation) {
+            (Element::Tri3, _) => 0.45,
+            (Element::Tri6, Formulation::Displacement) => 0.499,
+            (Element::Tri6, Formulation::Mixed) => return,
+        };
+        if nu > limit {
+            self.warnings.push(format!(
+                "cavity_nu = {nu} is beyond the {limit} up to which element = \"{}\" with \
+                 formulation = \"{}\" is free of locking: displacements come out too small and \
+                 stresses oscillate; use element = \"tri6\", formulation = \"mixed\"",
+                self.values.string(ELEMENT).unwrap_or_default(),
+                self.values.string(FORMULATION).unwrap_or_default(),
+            ));
+        }
+    }
+
+    /// Once per run, at linear kinematics: the largest principal strain beyond
+    /// [`SMALL_STRAIN_LIMIT`]. A modal model expands its field only when the bound of
+    /// [`Model::strain_bound`] does not rule that out.
+    fn check_strain(&mut self) {
+        let Some(m) = &mut self.model else {
+            return;
+        };
+        let below = m.strain_bound().is_some_and(|b| b <= SMALL_STRAIN_LIMIT);
+        if self.warned_strain || m.disc.choice.finite || below {
+            return;
+        }
+        m.expand();
+        let strain = m.view(m.u_full()).largest_strain();
+        if strain > SMALL_STRAIN_LIMIT {
+            self.warned_strain = true;
+            self.warnings.push(format!(
+                "at t = {} s the largest principal strain is {:.1} %, beyond the {:.0} % linear \
+                 (small-strain) kinematics are valid for: use kinematics = \"finite\" \
+                 (element = \"tri6\", formulation = \"displacement\") or a smaller load",
+                self.time,
+                100.0 * strain,
+                100.0 * SMALL_STRAIN_LIMIT
+            ));
+        }
     }
 }
 
@@ -330,6 +419,9 @@ impl Scene for Abdomen {
         self.time = start_time;
         self.outputs = None;
         self.values.freeze();
+        self.warned_strain = false;
+        self.check_locking();
+        self.check_strain();
         Ok(())
     }
 
@@ -360,6 +452,11 @@ impl Scene for Abdomen {
         m.advance(h / substeps, substeps as u64, |tau| press.at(tau + offset))?;
         self.time = t + h;
         self.outputs = None;
+        self.check_strain();
         Ok(())
+    }
+
+    fn take_warnings(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.warnings)
     }
 }

@@ -55,6 +55,8 @@ pub struct Modal {
     pub structure: Structure,
     pub unit_load: Vec<f64>,
     rows: Rows,
+    /// The largest principal strain of each basis vector, for [`Model::strain_bound`].
+    strains: Vec<f64>,
     /// The `modes` parameter the basis was built with.
     count: usize,
 }
@@ -228,8 +230,16 @@ impl Model {
         let basis = ModalBasis::new(&self.structure, reduction, count, &self.unit_load)?;
         let mut unit_load = vec![0.0; basis.dim()];
         basis.project(&self.unit_load, &mut unit_load);
+        let mut u = vec![0.0; self.u_full.len()];
+        let strains = (0..basis.dim())
+            .map(|j| {
+                self.structure.dirichlet().expand(basis.column(j), &mut u);
+                self.view(&u).largest_strain()
+            })
+            .collect();
         Ok(Modal {
             rows: Rows::new(self.field(&self.u_full), &basis, self.structure.dirichlet()),
+            strains,
             structure: basis.reduce(&self.structure)?,
             unit_load,
             basis,
@@ -302,6 +312,16 @@ impl Model {
             }
             self.expanded = true;
         }
+    }
+
+    /// In modal order, a bound of the largest principal strain that needs no expansion:
+    /// Σ_j |q_j| · (largest strain of basis vector j) — the per-triangle measure is a
+    /// seminorm of the strain, so the triangle inequality holds triangle by triangle. None in
+    /// full order.
+    pub fn strain_bound(&self) -> Option<f64> {
+        let r = self.modal.as_ref()?;
+        let q = &self.integrator.state().u;
+        Some(q.iter().zip(&r.strains).map(|(q, s)| q.abs() * s).sum())
     }
 
     /// The displacement of all dofs as of the last [`expand`](Self::expand).

@@ -39,7 +39,7 @@ pub fn table() -> Vec<Variable> {
     use Variability::{Fixed, Tunable};
     let mut t = vec![
         Variable::string("configuration", "", "pelvis/spine configuration: empty = built-in default, a shipped name (normal, narrow, wide, lordotic, tilted) or a TOML file path"),
-        Variable::parameter("target_triangles", Fixed, "1", 6000.0, (50.0, 500_000.0), "mesh resolution: approximate number of triangles"),
+        Variable::parameter("target_triangles", Fixed, "1", 1500.0, (50.0, 500_000.0), "mesh resolution: approximate number of triangles (before `mesh_subdivisions`)"),
         Variable::string("abdominal_wall", "free", "`free` or `fixed` (seed 003: the wall can additionally be fixed)"),
         Variable::string("integrator", "houbolt", "houbolt, newmark, central_difference or rk4"),
         Variable::parameter("max_step", Fixed, "s", 1e-3, (1e-8, 10.0), "largest internal time step; a communication step is split into equal substeps (at most 100000 per communication step)"),
@@ -47,7 +47,7 @@ pub fn table() -> Vec<Variable> {
         Variable::string("model_order", "full", "`full` (every dof); `modal`: `modes` load-dependent Ritz vectors of the pressing load (a Krylov basis holding its static response; within 1 % of full order at the default settings, see the README); `eigenmodes`: the lowest `modes` eigenmodes plus the load's static correction; `eigenmodes_truncated`: the eigenmodes alone"),
         Variable::parameter("modes", Fixed, "1", 80.0, (1.0, 2000.0), "basis vectors of a reduced model order (modal, eigenmodes)"),
     ];
-    let defaults = [(0.005, 0.45), (0.2, 4.0), (0.0225, 20.0), (0.1, 8.0)];
+    let defaults = [(0.005, 0.49), (0.2, 4.0), (0.0225, 20.0), (0.1, 8.0)];
     for (i, name) in TISSUES.iter().enumerate() {
         let (e, second) = defaults[i];
         t.push(Variable::parameter(
@@ -189,7 +189,7 @@ pub fn table() -> Vec<Variable> {
             1,
             "pressing force applied at the current time",
         ),
-        Variable::string("element", "tri3", "cavity element: `tri3` (3-node triangles, 2-node membranes; lock as ν → 0.5) or `tri6` (6-node triangles, 3-node membranes)"),
+        Variable::string("element", "tri6", "cavity element: `tri3` (3-node triangles, 2-node membranes; lock as ν → 0.5) or `tri6` (6-node triangles, 3-node membranes)"),
         Variable::string("formulation", "displacement", "`displacement` or, with tri6, `mixed` (element-wise pressure condensed at element level, P2/P0: no locking up to ν = 0.4999)"),
         Variable::string("kinematics", "linear", "`linear` (small strain) or, with tri6 and the displacement formulation, `finite` (plane-strain neo-Hookean, Newton's method in each Houbolt/Newmark step; membranes stay small-strain)"),
         Variable::parameter("mesh_subdivisions", Fixed, "1", 0.0, (0.0, 4.0), "times every triangle of the mesh of target_triangles is split into four (new boundary nodes on the curve): nested meshes with 4^n times the triangles, for convergence studies"),

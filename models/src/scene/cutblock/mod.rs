@@ -12,7 +12,7 @@
 //!
 //! Where the model stops being valid, it says so once per run (see
 //! [`Scene::take_warnings`]): the linear law beyond 5 % principal strain
-//! (`LINEAR_STRAIN_LIMIT` in `variables.rs`), and a cut so close to a node plane's
+//! ([`super::SMALL_STRAIN_LIMIT`]), and a cut so close to a node plane's
 //! neighbours that the graded layers beside it differ by more than a factor 4.
 
 mod contact;
@@ -27,7 +27,7 @@ use outputs::Outputs;
 use topology::Topology;
 use variables::*;
 
-use super::{check_step, megabytes, Scene, SceneError, Values, Variable};
+use super::{check_step, megabytes, Scene, SceneError, Values, Variable, SMALL_STRAIN_LIMIT};
 use crate::assembly::solid::{Solid, Tetrahedron};
 use crate::budget;
 use crate::element::{Elastic, Law, Material};
@@ -158,13 +158,13 @@ impl CutBlock {
         if self.warned_strain || t.material().law != Law::Linear {
             return;
         }
-        if let Some(strain) = outputs::strain_beyond(t, LINEAR_STRAIN_LIMIT) {
+        if let Some(strain) = outputs::strain_beyond(t, SMALL_STRAIN_LIMIT) {
             self.warned_strain = true;
             self.warnings.push(format!(
                 "the largest principal strain is {:.1} %, beyond the {:.0} % the linear \
                  (small-strain) material is valid for: use material = \"neo-hookean\"",
                 100.0 * strain,
-                100.0 * LINEAR_STRAIN_LIMIT
+                100.0 * SMALL_STRAIN_LIMIT
             ));
         }
     }

@@ -23,9 +23,6 @@ pub const MATERIAL: u32 = 18;
 pub const ELEMENT: u32 = 19;
 pub const MAX_INCREMENT: u32 = 20;
 pub const FIRST_OUTPUT: u32 = 21;
-/// The largest principal strain the linear law is trusted to (5 %): beyond it the scene
-/// warns, once per run, and names the strain.
-pub const LINEAR_STRAIN_LIMIT: f64 = 0.05;
 
 /// The table, in value-reference order.
 pub fn table() -> Vec<Variable> {
