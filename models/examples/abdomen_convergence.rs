@@ -24,14 +24,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let arg = |i: usize, default: &str| args.get(i).cloned().unwrap_or(default.into());
     let (element, formulation) = (arg(0, "tri6"), arg(1, "displacement"));
     let (nu, base): (f64, f64) = (arg(2, "0.45").parse()?, arg(3, "750").parse()?);
+    let grading: f64 = arg(4, "0").parse()?;
+    let remesh = arg(5, "nested") == "remesh";
     let mut rows = Vec::new();
     for subdivisions in 0..4 {
         let mut s = Abdomen::new();
         s.set_str("element", &element)?;
         s.set_str("formulation", &formulation)?;
         s.set("cavity_nu", nu)?;
-        s.set("target_triangles", base)?;
-        s.set("mesh_subdivisions", f64::from(subdivisions))?;
+        s.set("mesh_grading", grading)?;
+        if remesh {
+            s.set("target_triangles", base * 4f64.powi(subdivisions))?;
+        } else {
+            s.set("target_triangles", base)?;
+            s.set("mesh_subdivisions", f64::from(subdivisions))?;
+        }
         s.initialize(0.0)?;
         let u = s.static_displacement(0.8)?;
         let out = s.evaluate(&u, 0.8)?;

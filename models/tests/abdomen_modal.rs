@@ -101,20 +101,24 @@ fn the_error_falls_as_vectors_are_added_and_the_static_correction_matters() {
                 show(&e[1]),
                 show(&e[2])
             );
-            // More vectors, smaller errors: the Ritz basis at every doubling; the corrected
-            // eigenmodes from 10 to 80 (not at every doubling: on the 6-node default, at
-            // 0.5 Hz, 20 modes miss the floor maximum by 4.8e-3 against 4.4e-3 with 10).
-            for k in 0..4 {
-                assert!(
-                    e[0][k] < last[0][k],
-                    "Ritz, {}: {e:?} after {last:?}",
-                    OUTPUTS[k]
-                );
-            }
-            let first = *first.get_or_insert(e[1]);
+            // More vectors, smaller errors: the largest of the Ritz basis's errors at every
+            // doubling, each output's error from 10 to 80 vectors with either basis (not
+            // each at every doubling: the spaces are nested, but a history's maximum
+            // deviation need not fall with the energy error — at 0.5 Hz, 20 Ritz vectors
+            // miss the mean floor stress by 2.47e-3 against 2.29e-3 with 10).
+            let largest = |e: &[f64; 4]| e.iter().fold(0.0f64, |a, &b| a.max(b));
+            assert!(
+                largest(&e[0]) < largest(&last[0]),
+                "Ritz: {e:?} after {last:?}"
+            );
+            let first = *first.get_or_insert(e);
             if modes == 80.0 {
-                for k in 0..4 {
-                    assert!(e[1][k] < first[k], "{}: {e:?} from {first:?}", OUTPUTS[k]);
+                for (b, k) in [0, 1].into_iter().flat_map(|b| (0..4).map(move |k| (b, k))) {
+                    assert!(
+                        e[b][k] < first[b][k],
+                        "{}: {e:?} from {first:?}",
+                        OUTPUTS[k]
+                    );
                 }
             }
             // The static correction pays for its one vector on the mean floor stress (at 5 Hz

@@ -49,6 +49,8 @@ impl ControlPoints {
 pub struct Boundary {
     pub vertices: Vec<[f64; 2]>,
     pub segment_part: Vec<usize>,
+    /// The vertex of each of the [`LANDMARKS`], in their order.
+    pub landmarks: [usize; 3],
 }
 
 fn geometry_error(part: &str, what: String) -> SceneError {
@@ -77,6 +79,8 @@ fn catmull_rom(p: [[f64; 2]; 4], s: f64) -> [f64; 2] {
 }
 
 /// A dense polyline through the control points (end segments use mirrored phantom points).
+/// 2,048 points per span: fine enough that samplings graded down to ~0.01 mm
+/// ([`Spacing`]) still lie on the spline rather than on a polyline's corners.
 fn dense_curve(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
     let n = points.len();
     let mirror = |a: [f64; 2], b: [f64; 2]| [2.0 * a[0] - b[0], 2.0 * a[1] - b[1]];
@@ -90,7 +94,7 @@ fn dense_curve(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
         }
     };
     let mut out = vec![points[0]];
-    const PER_SEGMENT: usize = 64;
+    const PER_SEGMENT: usize = 2048;
     for i in 0..n - 1 {
         let quad = [
             get(i as isize - 1),
@@ -105,20 +109,109 @@ fn dense_curve(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
     out
 }
 
-/// Resamples a polyline at equal arc-length steps of about `h` (at least one segment), each
-/// step then split into 2^`subdivisions`.
-fn resample(curve: &[[f64; 2]], h: f64, subdivisions: u32) -> Vec<[f64; 2]> {
+/// How a part's boundary is sampled: spacing `h` along its length, refined towards both of
+/// its ends — where a membrane meets bone or another membrane and the stresses are singular
+/// (a fixed–free transition: r^-½, Szabó & Babuška 1991 §10) — as h·(s/R)^β within
+/// R = min([`GRADING_RADIUS`], L/2) of an end, s the arc length from it. β = `grading` = 0 is
+/// uniform; β = ½ restores the 6-node triangle's second-order stresses against an r^½
+/// displacement singularity (graded-mesh rule β ≥ 1 − λ/p with λ = ½, p = 2, Babuška,
+/// Kellogg & Pitkäranta 1979).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Spacing {
+    pub h: f64,
+    pub grading: f64,
+}
+
+/// Radius of the graded zone at each end of a part (mm).
+pub const GRADING_RADIUS: f64 = 60.0;
+
+impl Spacing {
+    /// Spacing `h` everywhere.
+    pub fn uniform(h: f64) -> Self {
+        Self { h, grading: 0.0 }
+    }
+
+    /// Number of segments up to arc length `s` on a part of length `l` — the integral of
+    /// 1/spacing, a strictly increasing map from [0, l] onto [0, count(l, l)].
+    fn count(&self, s: f64, l: f64) -> f64 {
+        let r = GRADING_RADIUS.min(0.5 * l);
+        let b = self.grading;
+        let end = |s: f64| r / (self.h * (1.0 - b)) * (s / r).powf(1.0 - b);
+        let zone = end(r);
+        if s <= r {
+            end(s)
+        } else if s <= l - r {
+            zone + (s - r) / self.h
+        } else {
+            2.0 * zone + (l - 2.0 * r) / self.h - end(l - s)
+        }
+    }
+
+    /// The arc length at which [`count`](Self::count) reaches `n`.
+    fn arc_length(&self, n: f64, l: f64) -> f64 {
+        let r = GRADING_RADIUS.min(0.5 * l);
+        let b = self.grading;
+        let end_inverse = |n: f64| r * (n.max(0.0) * self.h * (1.0 - b) / r).powf(1.0 / (1.0 - b));
+        let zone = self.count(r, l);
+        let total = self.count(l, l);
+        if n <= zone {
+            end_inverse(n)
+        } else if n <= total - zone {
+            r + (n - zone) * self.h
+        } else {
+            l - end_inverse(total - n)
+        }
+    }
+}
+
+/// Arc length at each point of a polyline.
+fn arc_lengths(curve: &[[f64; 2]]) -> Vec<f64> {
     let mut cumulative = vec![0.0];
     for w in curve.windows(2) {
         let l = (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]);
         cumulative.push(cumulative.last().unwrap() + l);
     }
+    cumulative
+}
+
+/// Resamples a polyline at steps of about `spacing` along its arc length (at least one
+/// segment), each step then split into 2^`subdivisions` (equal steps of the segment count,
+/// so that vertex k · 2^subdivisions is vertex k of the unsplit sampling). With a `mark` (an
+/// arc length), the vertex nearest to it in segment count is moved onto it, the steps on
+/// either side evened out. Returns the vertices and the index of the vertex at the mark.
+fn resample(
+    curve: &[[f64; 2]],
+    spacing: Spacing,
+    subdivisions: u32,
+    mark: Option<f64>,
+) -> (Vec<[f64; 2]>, Option<usize>) {
+    let cumulative = arc_lengths(curve);
     let total = *cumulative.last().unwrap();
-    let segments = ((total / h).round() as usize).max(1) << subdivisions;
+    let n_total = spacing.count(total, total);
+    let unsplit = (n_total.round() as usize).max(1);
+    let segments = unsplit << subdivisions;
+    // The mark's vertex and its segment count; at an end, the end itself.
+    let (at, n_at) = match mark {
+        Some(s) => {
+            let n = spacing.count(s, total);
+            let m = ((n / n_total * unsplit as f64).round() as usize).min(unsplit);
+            match m {
+                0 => (0, 0.0),
+                m if m == unsplit => (segments, n_total),
+                m => (m << subdivisions, n),
+            }
+        }
+        None => (0, 0.0),
+    };
+    let count_at = |k: usize| match k <= at {
+        true if at > 0 => n_at * k as f64 / at as f64,
+        true => 0.0,
+        false => n_at + (n_total - n_at) * (k - at) as f64 / (segments - at) as f64,
+    };
     let mut out = Vec::with_capacity(segments + 1);
     let mut j = 0;
     for k in 0..=segments {
-        let s = total * k as f64 / segments as f64;
+        let s = spacing.arc_length(count_at(k), total);
         while j + 2 < cumulative.len() && cumulative[j + 1] < s {
             j += 1;
         }
@@ -134,7 +227,29 @@ fn resample(curve: &[[f64; 2]], h: f64, subdivisions: u32) -> Vec<[f64; 2]> {
         ]);
     }
     *out.last_mut().unwrap() = *curve.last().unwrap();
-    out
+    (out, mark.map(|_| at))
+}
+
+/// The landmarks (output points, [`super::outputs`]): the arc-length middle of the pelvic
+/// floor and of the abdominal wall, and the highest point of the diaphragm — named points of
+/// the curve, vertices of every sampling, so that meshes of any resolution report the same
+/// material points.
+pub const LANDMARKS: [(&str, usize); 3] =
+    [("floor_mid", 1), ("wall_mid", 3), ("diaphragm_apex", 4)];
+
+/// Arc length of landmark `name` on its part's dense curve.
+fn landmark_arc_length(name: &str, curve: &[[f64; 2]]) -> f64 {
+    let cumulative = arc_lengths(curve);
+    let total = *cumulative.last().unwrap();
+    match name {
+        "diaphragm_apex" => {
+            let highest = (0..curve.len())
+                .max_by(|&a, &b| curve[a][1].total_cmp(&curve[b][1]))
+                .unwrap();
+            cumulative[highest]
+        }
+        _ => 0.5 * total,
+    }
 }
 
 fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
@@ -148,17 +263,17 @@ fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
 
 impl Boundary {
     /// Checks the parts (at least two points each, each part starting where the previous
-    /// one ends, the last ending where the first starts), samples each spline at spacing
-    /// `h` and checks that the closed curve neither crosses itself nor runs clockwise.
-    pub fn new(points: &ControlPoints, h: f64) -> Result<Self, SceneError> {
-        Self::subdivided(points, h, 0)
+    /// one ends, the last ending where the first starts), samples each spline at
+    /// `spacing` and checks that the closed curve neither crosses itself nor runs clockwise.
+    pub fn new(points: &ControlPoints, spacing: Spacing) -> Result<Self, SceneError> {
+        Self::subdivided(points, spacing, 0)
     }
 
     /// The boundary of [`new`](Self::new) with each segment split into 2^`subdivisions`
     /// equal arc-length pieces on the curve: vertex k · 2^subdivisions is vertex k of `new`.
     pub fn subdivided(
         points: &ControlPoints,
-        h: f64,
+        spacing: Spacing,
         subdivisions: u32,
     ) -> Result<Self, SceneError> {
         let parts = points.parts();
@@ -197,14 +312,24 @@ impl Boundary {
         }
         let mut vertices = Vec::new();
         let mut segment_part = Vec::new();
+        let mut landmarks = [0; 3];
         for (i, part) in parts.iter().enumerate() {
-            let sampled = resample(&dense_curve(part), h, subdivisions);
+            let curve = dense_curve(part);
+            let mark = LANDMARKS.iter().position(|&(_, p)| p == i);
+            let at = mark.map(|m| landmark_arc_length(LANDMARKS[m].0, &curve));
+            let (sampled, at_vertex) = resample(&curve, spacing, subdivisions, at);
+            if let (Some(m), Some(v)) = (mark, at_vertex) {
+                landmarks[m] = vertices.len() + v;
+            }
             vertices.extend_from_slice(&sampled[..sampled.len() - 1]);
             segment_part.extend(std::iter::repeat_n(i, sampled.len() - 1));
         }
+        let n = vertices.len();
+        landmarks.iter_mut().for_each(|v| *v %= n);
         let b = Self {
             vertices,
             segment_part,
+            landmarks,
         };
         b.check_simple()?;
         if b.signed_area() <= 0.0 {
@@ -285,7 +410,7 @@ mod tests {
 
     #[test]
     fn square_boundary_samples_and_orients() {
-        let b = Boundary::new(&square(), 10.0).unwrap();
+        let b = Boundary::new(&square(), Spacing::uniform(10.0)).unwrap();
         assert_eq!(b.vertices.len(), 40);
         assert!((b.signed_area() - 10_000.0).abs() < 1e-6);
         assert_eq!(b.segment_part.iter().filter(|&&p| p == 1).count(), 5);
@@ -295,15 +420,21 @@ mod tests {
     fn bad_boundaries_name_the_part() {
         let mut open = square();
         open.pelvic_bone[1] = [90.0, 0.0];
-        let e = Boundary::new(&open, 10.0).unwrap_err().to_string();
+        let e = Boundary::new(&open, Spacing::uniform(10.0))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("pelvic_bone") && e.contains("open"), "{e}");
         let mut few = square();
         few.spine = vec![[0.0, 100.0]];
-        let e = Boundary::new(&few, 10.0).unwrap_err().to_string();
+        let e = Boundary::new(&few, Spacing::uniform(10.0))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("spine") && e.contains("at least 2"), "{e}");
         let mut crossing = square();
         crossing.abdominal_wall = vec![[100.0, 0.0], [-20.0, 50.0], [100.0, 100.0]];
-        let e = Boundary::new(&crossing, 10.0).unwrap_err().to_string();
+        let e = Boundary::new(&crossing, Spacing::uniform(10.0))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("crosses"), "{e}");
         let cw = ControlPoints {
             spine: vec![[0.0, 0.0], [0.0, 100.0]],
@@ -312,9 +443,72 @@ mod tests {
             abdominal_wall: vec![[100.0, 50.0], [100.0, 0.0]],
             diaphragm: vec![[100.0, 0.0], [0.0, 0.0]],
         };
-        assert!(Boundary::new(&cw, 10.0)
+        assert!(Boundary::new(&cw, Spacing::uniform(10.0))
             .unwrap_err()
             .to_string()
             .contains("clockwise"));
+    }
+
+    #[test]
+    fn spacing_count_and_arc_length_invert_each_other() {
+        for grading in [0.0, 0.5, 0.7] {
+            for l in [80.0, 300.0] {
+                let sp = Spacing { h: 3.0, grading };
+                let total = sp.count(l, l);
+                for i in 0..=100 {
+                    let s = l * f64::from(i) / 100.0;
+                    let n = sp.count(s, l);
+                    assert!(
+                        (sp.arc_length(n, l) - s).abs() < 1e-9 * l,
+                        "{grading} {l} {s}"
+                    );
+                    // Graded alike at both ends.
+                    assert!((total - sp.count(l - s, l) - n).abs() < 1e-9 * total);
+                }
+                if grading == 0.0 {
+                    assert!((total - l / 3.0).abs() < 1e-12);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn graded_sampling_follows_the_spacing_function() {
+        // A straight part 300 mm long: segment lengths h·(s/R)^β within R = 60 mm of its
+        // ends (s at the segment's middle), h beyond.
+        let line: Vec<[f64; 2]> = (0..=3000).map(|i| [0.1 * f64::from(i), 0.0]).collect();
+        let sp = Spacing {
+            h: 4.0,
+            grading: 0.5,
+        };
+        let (v, _) = resample(&line, sp, 0, None);
+        for w in v.windows(2) {
+            let (a, b) = (w[0][0], w[1][0]);
+            let s = (0.5 * (a + b)).min(300.0 - 0.5 * (a + b));
+            let expected = 4.0 * (s / GRADING_RADIUS).min(1.0).sqrt();
+            if s > 5.0 {
+                assert!(((b - a) / expected - 1.0).abs() < 0.02, "at {s}: {}", b - a);
+            }
+        }
+        assert!(v[1][0] < 0.2, "first segment {}", v[1][0]);
+    }
+
+    #[test]
+    fn a_mark_becomes_a_vertex_and_subdivision_keeps_the_vertices() {
+        let line: Vec<[f64; 2]> = (0..=1000).map(|i| [0.1 * f64::from(i), 0.0]).collect();
+        let sp = Spacing {
+            h: 7.0,
+            grading: 0.5,
+        };
+        let (coarse, at) = resample(&line, sp, 0, Some(37.0));
+        let at = at.unwrap();
+        assert!((coarse[at][0] - 37.0).abs() < 1e-9);
+        let (fine, fine_at) = resample(&line, sp, 2, Some(37.0));
+        assert_eq!(fine_at, Some(4 * at));
+        for (k, p) in coarse.iter().enumerate() {
+            assert!((fine[4 * k][0] - p[0]).abs() < 1e-9);
+        }
+        // A mark within half a segment of an end is that end.
+        assert_eq!(resample(&line, sp, 0, Some(0.001)).1, Some(0));
     }
 }

@@ -11,8 +11,8 @@ use super::discretization::{self, Choice, Discretization, FieldView, Recovery};
 use super::mesher;
 use super::outputs::{self, Field, OutputPlan, Rows};
 use super::variables::{
-    tissue_vr, CONFIGURATION, ELEMENT, FORMULATION, INTEGRATOR, KINEMATICS, MODEL_ORDER, MODES,
-    SUBDIVISIONS, TARGET_TRIANGLES, TISSUES, WALL_SUPPORT,
+    tissue_vr, CONFIGURATION, ELEMENT, FORMULATION, GRADING, INTEGRATOR, KINEMATICS, MODEL_ORDER,
+    MODES, SUBDIVISIONS, TARGET_TRIANGLES, TISSUES, WALL_SUPPORT,
 };
 use crate::assembly::plane::{Continuum, PlaneProperties, Truss};
 use crate::assembly::Dirichlet;
@@ -177,6 +177,7 @@ impl Model {
             target,
             choice.element,
             subdivisions as u32,
+            values.real(GRADING),
         )?;
         let disc = Discretization::new(meshed, choice);
         let props = properties(values)?;

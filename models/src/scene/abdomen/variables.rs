@@ -28,6 +28,7 @@ pub const ELEMENT: u32 = 40;
 pub const FORMULATION: u32 = 41;
 pub const KINEMATICS: u32 = 42;
 pub const SUBDIVISIONS: u32 = 43;
+pub const GRADING: u32 = 44;
 
 /// Value reference of field `field` (0 E, 1 ν or area, 2 density, 3 damping) of a tissue.
 pub fn tissue_vr(tissue: usize, field: u32) -> u32 {
@@ -193,7 +194,8 @@ pub fn table() -> Vec<Variable> {
         Variable::string("formulation", "displacement", "`displacement` or, with tri6, `mixed` (element-wise pressure condensed at element level, P2/P0: no locking up to ν = 0.4999)"),
         Variable::string("kinematics", "linear", "`linear` (small strain) or, with tri6 and the displacement formulation, `finite` (plane-strain neo-Hookean, Newton's method in each Houbolt/Newmark step; membranes stay small-strain)"),
         Variable::parameter("mesh_subdivisions", Fixed, "1", 0.0, (0.0, 4.0), "times every triangle of the mesh of target_triangles is split into four (new boundary nodes on the curve): nested meshes with 4^n times the triangles, for convergence studies"),
+        Variable::parameter("mesh_grading", Fixed, "1", 0.0, (0.0, 0.5), "exponent β of the boundary spacing h·(s/R)^β towards the ends of the boundary parts (R = 60 mm), where stresses are singular: 0 uniform; 0.5 gives the 6-node triangle second-order stresses under refinement (Richardson references)"),
     ]);
-    debug_assert_eq!(t.len(), SUBDIVISIONS as usize + 1);
+    debug_assert_eq!(t.len(), GRADING as usize + 1);
     t
 }
