@@ -134,17 +134,21 @@ mod full_order_parts {
 /// One full-order Houbolt step (dt = 1 ms, the default press) per discretization: `tri3`,
 /// `tri6`, `mixed` on the nested mesh of the speed–error study that reaches about 1 % (the
 /// 750-triangle base split twice: 12,592 triangles), `tri3 6000` (the default before issue
-/// 12), and `finite` (tri6, finite strain) on the default mesh after 0.3 s of pressing, where
-/// Newton's method has work to do.
+/// 12), `graded` (tri6 with `mesh_grading` = ½ at 750, 3,000 and 24,000 target triangles:
+/// the study's cheapest meshes for 1 % and 0.1 %), and `finite` (tri6, finite strain) on the
+/// default mesh after 0.3 s of pressing, where Newton's method has work to do.
 mod discretizations {
     use super::*;
 
-    const CASES: [&str; 6] = [
+    const CASES: [&str; 9] = [
         "tri3 6000",
         "tri3 12592",
         "tri6 12592",
         "mixed 12592",
         "tri6 1500",
+        "graded 750",
+        "graded 3000",
+        "graded 24000",
         "finite 1500",
     ];
 
@@ -160,6 +164,9 @@ mod discretizations {
         s.set_str("element", element).unwrap();
         s.set_str("formulation", formulation).unwrap();
         s.set_str("kinematics", kinematics).unwrap();
+        if kind == "graded" {
+            s.set("mesh_grading", 0.5).unwrap();
+        }
         if mesh == "12592" {
             s.set("target_triangles", 750.0).unwrap();
             s.set("mesh_subdivisions", 2.0).unwrap();

@@ -1,10 +1,12 @@
-//! The abdomen's static outputs under the default press on nested meshes (a base mesh split
-//! into four 0, 1, 2, 3 times) with Richardson extrapolation of the last three
-//! (`verify::richardson`): observed order, extrapolated value and estimated error.
+//! The abdomen's static outputs under the default press on four meshes 4× apart in triangles
+//! (h halved) with Richardson extrapolation of the last three (`verify::richardson`):
+//! observed order, extrapolated value and estimated error. `nested` splits the base mesh
+//! into four 0–3 times; `remesh` meshes base × 4^k target triangles afresh (with the
+//! grading, the spacing at the part ends shrinks as the grading asks).
 //!
-//! cargo run --release -p models --example abdomen_convergence -- [element] [formulation] [nu] [base triangles]
+//! cargo run --release -p models --example abdomen_convergence -- [element] [formulation] [nu] [base triangles] [mesh_grading] [nested|remesh]
 //!
-//! defaults: tri6 displacement 0.45 750
+//! defaults: tri6 displacement 0.45 750 0 nested
 
 use models::scene::abdomen::Abdomen;
 use models::scene::Scene;

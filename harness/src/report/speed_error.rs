@@ -10,6 +10,7 @@ use super::Report;
 use crate::studies::speed_error::{
     cheapest, measure, pareto, reference, stability, write_csv, Case, Reference, Study, QUANTITIES,
 };
+use models::verify::richardson::Extrapolation;
 
 /// The tolerances the report recommends a setting for.
 const TOLERANCES: [f64; 3] = [0.05, 0.01, 0.001];
@@ -20,7 +21,7 @@ pub fn section(report: &mut Report) -> Result<()> {
     let total: usize = study
         .discretizations
         .iter()
-        .map(|d| d.subdivisions.len())
+        .map(|d| d.targets.len())
         .sum::<usize>()
         * study.orders.len()
         * study.integrators.len()
@@ -62,24 +63,33 @@ fn describe_reference(report: &mut Report, study: &Study, reference: &Reference)
     report.text(&format!(
         "Errors: max over {} s (sampled every 20 ms) of the deviation of each history from the \
          reference, relative to the reference's peak; a case's error is the larger of the two. \
-         Every case runs on the base mesh (target {} triangles) split into four 0, 1, … times (the \
-         apex is a node of the base mesh: the same point in every case). Reference: the \
-         default discretization (tri6, displacement) on {} triangles ({} split into four {} \
-         times), Houbolt at dt = {} s. Its own errors, estimated: mesh by \
-         Richardson extrapolation of the static outputs at the peak press on the last three \
-         nested meshes, time step by halving dt on the unsplit mesh (× 4/3, second order):",
-        study.duration, r.target, e.triangles, r.target, r.subdivisions, r.dt
+         The apex and the floor midpoint are fixed points of every mesh. Reference: tri6 \
+         displacement on {} triangles (target {}, mesh_grading {}), Houbolt at dt = {} s. Its \
+         own errors, estimated from the static outputs at the peak press: mesh — the larger of \
+         the Richardson error on its graded family (targets {}, {}, {}) and its distance from \
+         the Richardson extrapolation of uniform nested meshes (target {} split into four 1–3 \
+         times); time step — halving dt on the graded target-{} mesh (× 4/3, second order):",
+        study.duration,
+        e.triangles,
+        r.target,
+        r.grading,
+        r.dt,
+        r.target / 16,
+        r.target / 4,
+        r.target,
+        r.target / 64,
+        r.target / 16,
     ));
+    let fit = |f: &Result<Extrapolation, String>| match f {
+        Ok(f) => format!("order {:.2}, {:.6e}", f.order, f.value),
+        Err(why) => why.clone(),
+    };
     let rows: Vec<Vec<String>> = (0..2)
         .map(|k| {
-            let fit = match &e.mesh[k] {
-                Ok(f) => [format!("{:.2}", f.order), format!("{:.6e}", f.value)],
-                Err(why) => [why.clone(), String::new()],
-            };
             vec![
                 QUANTITIES[k].into(),
-                fit[0].clone(),
-                fit[1].clone(),
+                fit(&e.graded[k]),
+                fit(&e.uniform[k]),
                 format!("{:.2e}", e.mesh_error[k]),
                 format!("{:.2e}", e.time_error[k]),
             ]
@@ -88,8 +98,8 @@ fn describe_reference(report: &mut Report, study: &Study, reference: &Reference)
     report.table(
         &[
             "quantity",
-            "observed order",
-            "extrapolated (static)",
+            "graded family: Richardson",
+            "uniform nested: Richardson",
             "mesh error",
             "time-step error",
         ],
@@ -104,6 +114,7 @@ fn table(report: &mut Report, cases: &[Case]) {
             vec![
                 c.element.into(),
                 c.formulation.into(),
+                c.grading.to_string(),
                 c.triangles.to_string(),
                 c.order.into(),
                 c.integrator.clone(),
@@ -120,6 +131,7 @@ fn table(report: &mut Report, cases: &[Case]) {
         &[
             "element",
             "formulation",
+            "grading",
             "triangles",
             "order",
             "integrator",
@@ -152,11 +164,12 @@ fn recommendations(report: &mut Report, cases: &[Case], reference: &Reference) {
             } else {
                 cheapest(cases, tol).map_or("no case of the study".into(), |c| {
                     format!(
-                        "{} {} on {} triangles, {} order, {} at dt = {} s: {:.0} ms per \
-                         simulated s (set-up {:.0} ms), error {:.2} %",
+                        "{} {} on {} triangles (mesh_grading {}), {} order, {} at dt = {} s: \
+                         {:.0} ms per simulated s (set-up {:.0} ms), error {:.2} %",
                         c.element,
                         c.formulation,
                         c.triangles,
+                        c.grading,
                         c.order,
                         c.integrator,
                         c.dt,
@@ -183,8 +196,12 @@ fn pareto_plot(report: &mut Report, cases: &[Case]) -> Result<()> {
     let mut curves = plot::grouped(cases.iter().zip(&points).map(|(c, &point)| {
         (
             format!(
-                "{} {}, {}, {}",
-                c.element, c.formulation, c.order, c.integrator
+                "{} {}{}, {}, {}",
+                c.element,
+                c.formulation,
+                if c.grading > 0.0 { " graded" } else { "" },
+                c.order,
+                c.integrator
             ),
             point,
         )

@@ -3,8 +3,8 @@
 //! index): with f₁, f₂, f₃ from coarse to fine, the observed order is
 //! p = ln((f₁ − f₂)/(f₂ − f₃)) / ln r, the extrapolated value f* = f₃ + (f₃ − f₂)/(rᵖ − 1),
 //! and the estimated error of the finest value |f* − f₃|. It assumes the three are in the
-//! asymptotic range (f_h = f* + C hᵖ): convergence that changes direction has no order and
-//! is refused.
+//! asymptotic range (f_h = f* + C hᵖ): convergence that changes direction or whose changes
+//! grow has no (positive) order and is refused.
 
 use crate::error::ModelError;
 
@@ -40,6 +40,14 @@ pub fn extrapolate(values: [f64; 3], ratio: f64) -> Result<Extrapolation, ModelE
                      convergence (not in the asymptotic range)",
         });
     }
+    if d23.abs() >= d12.abs() {
+        return Err(ModelError::InvalidParameter {
+            name: "values on three meshes".into(),
+            value: f3,
+            reason: "the change between the finer meshes is not smaller than the one before: \
+                     no positive order of convergence (not in the asymptotic range)",
+        });
+    }
     let order = (d12 / d23).ln() / ratio.ln();
     let correction = -d23 / (ratio.powf(order) - 1.0);
     Ok(Extrapolation {
@@ -66,10 +74,11 @@ mod tests {
     }
 
     #[test]
-    fn oscillating_or_stalled_sequences_and_bad_ratios_are_refused() {
+    fn oscillating_stalled_or_growing_sequences_and_bad_ratios_are_refused() {
         for (values, ratio) in [
             ([1.0, 2.0, 1.5], 2.0),
             ([1.0, 1.0, 1.0], 2.0),
+            ([1.0, 1.1, 1.3], 2.0),
             ([1.0, 2.0, 2.5], 1.0),
             ([1.0, 2.0, 2.5], f64::NAN),
         ] {
