@@ -249,30 +249,25 @@ pub fn reference(setting: ReferenceSetting, duration: f64) -> Result<Reference> 
         [0, 1].map(|k| 4.0 / 3.0 * relative_deviation(&coarse.histories[k], &halved.histories[k]));
     // Mesh: the static outputs at the peak press on the graded family and on uniform nested
     // meshes of the same sizes.
-    let graded_statics = [16, 4, 1].map(|d| static_outputs(graded(setting.target / d, setting.dt)));
-    let uniform_statics = [1, 2, 3].map(|subdivisions| {
-        static_outputs(Setting {
-            grading: 0.0,
-            triangles: setting.target / 64,
-            subdivisions,
-            ..graded(0, setting.dt)
-        })
-    });
-    let fit =
-        |statics: &[Result<Vec<f64>>; 3], k: usize| -> Result<Result<Extrapolation, String>> {
-            let mut values = [0.0; 3];
-            for (v, s) in values.iter_mut().zip(statics) {
-                *v = s.as_ref().map_err(|e| anyhow::anyhow!("{e:#}"))?[STATIC_INDEX[k]];
-            }
-            Ok(extrapolate(values, 2.0).map_err(|e| e.to_string()))
-        };
-    let graded = [fit(&graded_statics, 0)?, fit(&graded_statics, 1)?];
-    let uniform = [fit(&uniform_statics, 0)?, fit(&uniform_statics, 1)?];
+    let statics = |settings: [Setting; 3]| -> Result<Vec<Vec<f64>>> {
+        settings.into_iter().map(static_outputs).collect()
+    };
+    let graded_statics = statics([16, 4, 1].map(|d| graded(setting.target / d, setting.dt)))?;
+    let uniform_statics = statics([1, 2, 3].map(|subdivisions| Setting {
+        grading: 0.0,
+        triangles: setting.target / 64,
+        subdivisions,
+        ..graded(0, setting.dt)
+    }))?;
+    let fit = |statics: &[Vec<f64>], k: usize| {
+        let values = [0, 1, 2].map(|i| statics[i][STATIC_INDEX[k]]);
+        extrapolate(values, 2.0).map_err(|e| e.to_string())
+    };
+    let graded = [fit(&graded_statics, 0), fit(&graded_statics, 1)];
+    let uniform = [fit(&uniform_statics, 0), fit(&uniform_statics, 1)];
     let mesh_error = [0, 1].map(|k| {
         let own = graded[k].as_ref().map_or(f64::NAN, |e| e.error);
-        let reference = graded_statics[2]
-            .as_ref()
-            .map_or(f64::NAN, |s| s[STATIC_INDEX[k]]);
+        let reference = graded_statics[2][STATIC_INDEX[k]];
         let independent = uniform[k]
             .as_ref()
             .map_or(f64::NAN, |e| (e.value - reference).abs());
