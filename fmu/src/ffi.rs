@@ -316,3 +316,58 @@ pub fn unsupported(c: *mut c_void, function: &str) -> c_int {
         )
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use std::sync::{Arc, Mutex};
+
+    use super::*;
+    use crate::instance::Phase;
+    use crate::model::{Version, MODELS};
+
+    /// A panic inside an entry point's work is an Error status at the boundary, logged with
+    /// its message; the instance then refuses steps but still answers get, and frees.
+    #[test]
+    fn a_panic_inside_an_entry_point_is_an_error_status_and_poisons_the_instance() {
+        let logged = Arc::new(Mutex::new(Vec::<(Status, String)>::new()));
+        let sink = Arc::clone(&logged);
+        let log: Log = Arc::new(move |s, _, m| sink.lock().unwrap().push((s, m.to_string())));
+        let token = MODELS[1].token();
+        let c = Instance::into_handle(Instance::create(
+            Version::Fmi3,
+            Some(&token),
+            "guarded",
+            None,
+            log,
+            false,
+        ));
+        assert!(!c.is_null());
+
+        let status = guard(c, Some((Call::Set, "fmi3SetFloat64")), |_| {
+            panic!("an index out of range deep in a scene")
+        });
+        assert_eq!(status, Status::Error as c_int);
+        let (s, message) = logged.lock().unwrap().last().cloned().unwrap();
+        assert_eq!(s, Status::Error);
+        assert!(
+            message.contains("panic caught at the FMI boundary")
+                && message.contains("an index out of range deep in a scene"),
+            "{message}"
+        );
+
+        let phase = |c| {
+            let mut phase = None;
+            guard(c, None, |i| {
+                phase = Some(i.phase());
+                Status::Ok
+            });
+            phase
+        };
+        assert_eq!(phase(c), Some(Phase::Error));
+        let refused = guard(c, Some((Call::DoStep, "fmi3DoStep")), |_| Status::Ok);
+        assert_eq!(refused, Status::Error as c_int);
+        let read = guard(c, Some((Call::Get, "fmi3GetFloat64")), |_| Status::Ok);
+        assert_eq!(read, Status::Ok as c_int);
+        unsafe { free(c) };
+    }
+}
