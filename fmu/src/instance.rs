@@ -15,7 +15,6 @@
 //!   set before it in the same call are restored and the call changes nothing.
 
 use std::ffi::CString;
-use std::path::PathBuf;
 use std::sync::Arc;
 
 use models::scene::{Causality, ErrorKind, Scene, SceneError, Variable, VariableKind};
@@ -135,7 +134,6 @@ pub struct Instance {
     failure: Option<String>,
     start_time: f64,
     time: f64,
-    resources: Option<PathBuf>,
     log: Log,
     messages: Vec<Message>,
     log_calls: bool,
@@ -168,15 +166,15 @@ impl Instance {
                 "instantiation token / GUID `{token}` matches no model in this binary (is the modelDescription.xml from another build?)"
             ));
         };
-        let resources = match location
+        // The scenes carry their shipped data; a location is still checked, so that a
+        // malformed one is reported rather than ignored.
+        if let Some(Err(m)) = location
             .filter(|l| !l.is_empty())
             .map(crate::uri::resource_dir)
         {
-            None => None,
-            Some(Ok(dir)) => Some(dir),
-            Some(Err(m)) => return fail(&m),
-        };
-        let scene = scene_for(model, resources.as_deref());
+            return fail(&m);
+        }
+        let scene = (model.create)();
         Some(Self {
             name: name.to_string(),
             scalars: fmi2_scalars(scene.variables()),
@@ -188,7 +186,6 @@ impl Instance {
             failure: None,
             start_time: 0.0,
             time: 0.0,
-            resources,
             log,
             messages: Vec::new(),
             log_calls,
@@ -335,7 +332,7 @@ impl Instance {
         if self.phase != Phase::Initialization || !self.built {
             return Ok(());
         }
-        let mut fresh = scene_for(self.model, self.resources.as_deref());
+        let mut fresh = (self.model.create)();
         let settable: Vec<(u32, VariableKind)> = self
             .scene
             .variables()
@@ -402,7 +399,7 @@ impl Instance {
 
     /// Back to the state after instantiation: a fresh scene with start values.
     pub fn reset(&mut self) -> Status {
-        self.scene = scene_for(self.model, self.resources.as_deref());
+        self.scene = (self.model.create)();
         self.phase = Phase::Instantiated;
         self.built = false;
         self.failure = None;
@@ -624,15 +621,6 @@ impl Instance {
         }
         Ok(&self.strings)
     }
-}
-
-/// A scene of `model` with start values, pointed at its resources.
-fn scene_for(model: &Model, resources: Option<&std::path::Path>) -> Box<dyn Scene> {
-    let mut scene = (model.create)();
-    if let Some(dir) = resources {
-        scene.set_resource_dir(dir);
-    }
-    scene
 }
 
 #[cfg(test)]

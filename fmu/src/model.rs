@@ -38,14 +38,14 @@ pub struct Model {
 pub const MODELS: [Model; 2] = [
     Model {
         identifier: "abdomen",
-        description: "2D midsagittal FE model of the abdominal cavity: pelvis/spine configuration, per-tissue stiffness, pressing force on the diaphragm, pelvic-floor stress (seed 003 §5.4)",
+        description: models::scene::abdomen::DESCRIPTION,
         create: || Box::new(Abdomen::new()),
         stop_time: 2.0,
         step_size: 1e-3,
     },
     Model {
         identifier: "cutblock",
-        description: "3D linear-tetrahedron silicone block with a growing scalpel incision, pulled and pressed; reaction force and laser profiles (seed 002)",
+        description: models::scene::cutblock::DESCRIPTION,
         create: || Box::new(CutBlock::new()),
         stop_time: 1.0,
         step_size: 0.1,

@@ -1,57 +1,67 @@
 //! tissuefmu harness: the command-line front end. It parses the command and dispatches to
-//! the library ([`harness::report`]); every command but `simulate` writes a report folder
-//! (CSVs, plots as PNG and SVG, VTU fields, `report.md` linking them) and prints its path.
-//! Without a command it runs `report`, everything on built-in defaults (the README's main
-//! job).
+//! the library ([`harness::report`]); every command but `simulate` and `describe` writes a
+//! report folder (CSVs, plots as PNG and SVG, VTU fields, `report.md` linking them) and
+//! prints its path. Without a command it prints its help.
 
 use std::path::PathBuf;
 
 use anyhow::Result;
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 use harness::report::{
     self, cut_speed_error, fields, identification, model_order, series, speed_error, sweep,
-    verification,
+    variables, verification, Depth,
 };
 use harness::studies::identify::Model;
-use harness::studies::peer;
+use harness::studies::{measurements, peer};
 
 #[derive(Parser)]
 #[command(
     name = "harness",
     version,
-    about = "Experiments, sweeps, identification and reports for the tissuefmu scenes"
+    about = "Experiments, sweeps, identification and reports for the tissuefmu scenes",
+    after_help = "Start with `harness report` (a few minutes; `--full` for the converged \
+                  studies). Documentation: docs/user-guide.md"
 )]
 struct Cli {
+    /// Threads for the work that runs in parallel (sweep cases, fits, difference
+    /// quotients) [default: one per core; a sweep file's `jobs` unless given]
+    #[arg(long, global = true)]
+    jobs: Option<usize>,
     #[command(subcommand)]
     command: Option<Command>,
 }
 
 #[derive(Subcommand)]
 enum Command {
-    /// Everything on built-in defaults: verification, identification on the shipped data,
+    /// Everything on built-in defaults, each capability once (quick: a few minutes), or the
+    /// converged studies with --full: verification, identification on the shipped data,
     /// speed versus error, the shipped sweeps (pelvis, cut block), fields
     Report {
+        /// The converged studies: references, full speed–error fronts, every
+        /// identification, full against modal order (about 20 minutes on 2 cores)
+        #[arg(long)]
+        full: bool,
         #[arg(long, default_value = "report/default")]
         out: PathBuf,
     },
     /// Runs (or resumes) the sweep of an experiment file
     Sweep {
-        /// The experiment (TOML), e.g. experiments/pelvis_sweep.toml
+        /// The experiment: a TOML file, or the name of a shipped one (pelvis_sweep,
+        /// cutblock_sweep)
         experiment: PathBuf,
         /// Output folder [default: report/<experiment name>]; re-running resumes it
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Cases in parallel, overriding the file's `jobs`
-        #[arg(long)]
-        jobs: Option<usize>,
         /// Only write the plan (plan.json, for harness/python/dask_sweep.py); run nothing
         #[arg(long)]
         plan_only: bool,
     },
-    /// Fits E and ν of a cut-block model to a measurement set (forces, laser profiles)
+    /// Fits E and ν of a cut-block model to a measurement set (forces, laser profiles);
+    /// writes report.md, plots and identify.json
     Identify {
-        /// Folder with specimen_<set>.toml, force_displacement_<set>.csv and (optional)
-        /// profile_<set>_x25/50/75.csv [default: the shipped experiments/data/cutblock]
+        /// Folder with specimen_<set>.toml, force_displacement_<set>.csv and (optional) one
+        /// profile_<set>_x<X>.csv per scan line of the specimen [default: the shipped sets
+        /// A and C]
         #[arg(long)]
         data: Option<PathBuf>,
         /// Name of the measurement set in the folder
@@ -88,6 +98,14 @@ enum Command {
     Fields {
         #[arg(long, default_value = "report/fields")]
         out: PathBuf,
+    },
+    /// The variable reference of a scene (name, causality, variability, type, unit, start,
+    /// range, description), to standard output
+    Describe {
+        /// The scene: abdomen or cutblock
+        scene: String,
+        #[arg(long, value_enum, default_value = "text")]
+        format: variables::Format,
     },
     /// The shipped pelvis sweep in full and modal order: wall times and peak differences
     ModelOrder {
@@ -147,17 +165,26 @@ fn main() -> std::process::ExitCode {
 }
 
 fn run(cli: Cli) -> Result<Option<PathBuf>> {
-    let command = cli.command.unwrap_or(Command::Report {
-        out: PathBuf::from("report/default"),
-    });
+    let Some(command) = cli.command else {
+        Cli::command().print_help()?;
+        return Ok(None);
+    };
+    if let Some(jobs) = cli.jobs {
+        anyhow::ensure!(jobs > 0, "--jobs {jobs}: give at least one thread");
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(jobs)
+            .build_global()?;
+    }
     let path = match command {
-        Command::Report { out } => report::default::run(&out)?,
+        Command::Report { full, out } => {
+            let depth = if full { Depth::Full } else { Depth::Quick };
+            report::default::run(&out, depth)?
+        }
         Command::Sweep {
             experiment,
             out,
-            jobs,
             plan_only,
-        } => sweep::command(&experiment, out, jobs, plan_only)?,
+        } => sweep::command(&experiment, out, cli.jobs, plan_only)?,
         Command::Identify {
             data,
             set,
@@ -167,25 +194,38 @@ fn run(cli: Cli) -> Result<Option<PathBuf>> {
             out,
         } => identification::command(
             identification::Job {
-                dir: data.unwrap_or_else(identification::shipped_data),
+                data: measurements::source(data.as_deref()),
                 set,
                 model: Model::new(&material, &element),
                 nu,
             },
             &out,
         )?,
-        Command::SpeedError { out } => {
-            report::write(&out, "Speed versus error", speed_error::section)?
-        }
+        Command::SpeedError { out } => report::write(
+            &out,
+            "Speed versus error",
+            speed_error::section,
+            Depth::Full,
+        )?,
         Command::CutSpeedError { out } => report::write(
             &out,
             "Speed versus error, cut block",
             cut_speed_error::section,
+            Depth::Full,
         )?,
-        Command::Verify { out } => report::write(&out, "Verification", verification::section)?,
-        Command::Fields { out } => report::write(&out, "Fields", fields::section)?,
-        Command::ModelOrder { out } => {
-            report::write(&out, "Full against modal order", model_order::section)?
+        Command::Verify { out } => {
+            report::write(&out, "Verification", verification::section, Depth::Full)?
+        }
+        Command::Fields { out } => report::write(&out, "Fields", fields::section, Depth::Full)?,
+        Command::ModelOrder { out } => report::write(
+            &out,
+            "Full against modal order",
+            model_order::section,
+            Depth::Full,
+        )?,
+        Command::Describe { scene, format } => {
+            print!("{}", variables::describe(&scene, format)?);
+            return Ok(None);
         }
         Command::PeerExport { out, steps } => {
             let t = peer::export(&out, steps)?;

@@ -1,5 +1,6 @@
-//! The report commands end to end: each writes its folder with the files its report links,
-//! and the shipped experiment files load.
+//! The commands end to end: each writes its folder with the files its report links; the
+//! shipped experiments load; the binary runs from anywhere (it carries its shipped data);
+//! without a command it prints its help; `describe` lists a scene's variables.
 
 use std::path::Path;
 use std::process::Command;
@@ -112,8 +113,21 @@ fn identify_fits_a_set_without_profiles_at_a_given_nu_and_refuses_a_bad_one() {
         &[
             "identify_T_linear_tet4_forces.png",
             "identify_T_linear_tet4_forces.svg",
+            "identify.json",
         ],
     );
+    // The JSON holds the unrounded fit: E to round-off, ν as given, the forces exact.
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("identify.json")).unwrap()).unwrap();
+    let e = json["E_MPa"]["value"].as_f64().unwrap();
+    assert!(
+        (e - expected).abs() < 1e-12 * expected,
+        "E {e} vs {expected}"
+    );
+    assert_eq!(json["nu"]["value"].as_f64(), Some(0.45));
+    assert_eq!(json["nu"]["given"].as_bool(), Some(true));
+    assert!(json["forces"]["rms_N"].as_f64().unwrap() < 1e-9);
+    assert_eq!(json["at_noise_level"].as_bool(), Some(true));
 
     let o = harness(&[&args[..3], &["--set", "T", "--out", out.to_str().unwrap()]].concat());
     let err = String::from_utf8_lossy(&o.stderr);
@@ -123,12 +137,12 @@ fn identify_fits_a_set_without_profiles_at_a_given_nu_and_refuses_a_bad_one() {
         "a set without profiles needs ν: {err}"
     );
 
-    std::fs::write(&forces, "displacement_mm,force_N\n1,abc\n").unwrap();
+    std::fs::write(&forces, "displacement_mm,force_N\n0,0\n1,NaN\n").unwrap();
     let o = harness(&args);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success());
     assert!(
-        err.contains("force_displacement_T.csv") && err.contains("row 1"),
+        err.contains("force_displacement_T.csv, line 3, column `force_N`: NaN is not a finite"),
         "{err}"
     );
 }
@@ -176,12 +190,165 @@ fn simulate_prints_the_series_and_names_bad_settings() {
     }
 }
 
+/// The compiled-in experiments are the repository's files.
 #[test]
 fn shipped_experiments_load() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../experiments");
-    let e = Experiment::load(&dir.join("pelvis_sweep.toml")).unwrap();
-    assert_eq!(e.cases.len(), 5 + 32 + 5 * 5);
-    assert_eq!(e.metric, "floor_stress_mean");
-    let e = Experiment::load(&dir.join("cutblock_sweep.toml")).unwrap();
-    assert_eq!(e.cases.len(), 15);
+    for (name, cases) in [("pelvis_sweep", 5 + 32 + 5 * 5), ("cutblock_sweep", 15)] {
+        let file = Experiment::load(&dir.join(format!("{name}.toml"))).unwrap();
+        let shipped = Experiment::shipped(name).unwrap();
+        assert_eq!(shipped.source, file.source, "{name}");
+        assert_eq!(shipped.cases.len(), cases, "{name}");
+    }
+    assert_eq!(
+        Experiment::shipped("pelvis_sweep").unwrap().metric,
+        "floor_stress_mean"
+    );
+    let e = Experiment::open(Path::new("no_such_sweep")).unwrap_err();
+    assert!(
+        format!("{e:#}").contains("pelvis_sweep, cutblock_sweep"),
+        "{e:#}"
+    );
+}
+
+#[test]
+fn without_a_command_the_help_lists_every_command() {
+    let o = harness(&[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let help = String::from_utf8_lossy(&o.stdout);
+    for command in [
+        "report",
+        "sweep",
+        "identify",
+        "speed-error",
+        "cut-speed-error",
+        "verify",
+        "fields",
+        "describe",
+        "model-order",
+        "peer-export",
+        "simulate",
+    ] {
+        assert!(
+            help.contains(&format!("\n  {command} ")),
+            "{command}: {help}"
+        );
+    }
+}
+
+#[test]
+fn describe_prints_the_variables_and_refuses_an_unknown_scene() {
+    let o = harness(&["describe", "abdomen"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("floor_stress_mean") && text.contains("press_amplitude"));
+    let o = harness(&["describe", "cutblock", "--format", "markdown"]);
+    let md = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        md.contains("| `reaction_force` | output | continuous | Real | N |"),
+        "{md}"
+    );
+    let o = harness(&["describe", "liver"]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("unknown scene `liver`"));
+}
+
+/// A copy of the binary elsewhere, run from elsewhere, finds the shipped configurations
+/// (the abdomen's `narrow`) and experiments, and gives what the built binary gives; the
+/// binary holds no path of the source tree it was built from.
+#[test]
+fn the_binary_runs_from_anywhere() {
+    let tmp = tempfile::tempdir().unwrap();
+    let copy = tmp.path().join("harness");
+    std::fs::copy(env!("CARGO_BIN_EXE_harness"), &copy).unwrap();
+    let args = [
+        "simulate",
+        "abdomen",
+        "--set",
+        "configuration=narrow",
+        "--set",
+        "target_triangles=300",
+        "--stop-time",
+        "0.02",
+        "--step",
+        "0.01",
+        "--record",
+        "floor_stress_mean,apex_uy",
+    ];
+    let moved = Command::new(&copy)
+        .args(args)
+        .current_dir(tmp.path())
+        .output()
+        .unwrap();
+    assert!(
+        moved.status.success(),
+        "{}",
+        String::from_utf8_lossy(&moved.stderr)
+    );
+    let here = harness(&args);
+    assert_eq!(moved.stdout, here.stdout);
+    assert_eq!(String::from_utf8_lossy(&moved.stdout).lines().count(), 4);
+    let plan = Command::new(&copy)
+        .args(["sweep", "cutblock_sweep", "--plan-only", "--out", "plan"])
+        .current_dir(tmp.path())
+        .output()
+        .unwrap();
+    assert!(
+        plan.status.success(),
+        "{}",
+        String::from_utf8_lossy(&plan.stderr)
+    );
+    assert!(tmp.path().join("plan/plan.json").is_file());
+    let bytes = std::fs::read(&copy).unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+    for dir in ["harness", "models", "experiments"] {
+        let path = root.join(dir).display().to_string();
+        let found = bytes.windows(path.len()).any(|w| w == path.as_bytes());
+        assert!(!found, "the binary holds the build path {path}");
+    }
+}
+
+/// The main job (`harness report`, quick) writes every section with the files it links:
+/// both scenes, the seed findings, an identification with its JSON, both speed–error
+/// studies, both shipped sweeps, the fields, and the section times.
+#[test]
+fn the_quick_report_writes_every_section() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("default");
+    let o = harness(&["report", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    for heading in [
+        "## Verification",
+        "## Material identification on the shipped set C",
+        "## Speed versus error, abdomen",
+        "## Speed versus error, cut block",
+        "## Sweep `pelvis_sweep` (62 cases)",
+        "## Sweep `pelvis_sweep` in full and modal order",
+        "## Sweep `cutblock_sweep` (15 cases)",
+        "## Fields",
+        "## Wall time of each section",
+    ] {
+        assert!(report.contains(heading), "{heading} missing");
+    }
+    for seed in ["2.096", "configuration narrow", "wall E = 225 kPa"] {
+        assert!(report.contains(seed), "the seed comparison lacks {seed}");
+    }
+    assert_files(
+        &out,
+        &[
+            "identify_C_neo_hookean_tet10.json",
+            "identify_C_neo_hookean_tet10_profiles.png",
+            "speed_error.csv",
+            "pareto.png",
+            "cutblock_speed_error.csv",
+            "cutblock_pareto.png",
+            "pelvis_sweep/report.md",
+            "cutblock_sweep/report.md",
+            "abdomen_stress.png",
+            "abdomen.vtu",
+            "cutblock.vtu",
+        ],
+    );
+    assert!(report.contains("Quick report"));
 }

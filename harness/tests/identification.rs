@@ -2,12 +2,11 @@
 //! were generated with (neo-Hookean, tet10) fits both to the noise level with ν inside its
 //! search interval; the linear model does not, and its fit says so.
 
-use harness::report::identification::shipped_data;
 use harness::studies::identify::{identify, Fit, Model, FORCE_LEVEL, PROFILE_LEVEL};
-use harness::studies::measurements::Measurements;
+use harness::studies::measurements::{Measurements, Source};
 
 fn fit(set: &str, material: &str, element: &str) -> (Measurements, Fit) {
-    let m = Measurements::load(&shipped_data(), set).unwrap();
+    let m = Measurements::load(&Source::Shipped, set).unwrap();
     let fit = identify(&m, &Model::new(material, element), None, &|_, _| {}).unwrap();
     (m, fit)
 }

@@ -117,6 +117,38 @@ fn zero_depth_equals_uncut_and_cuts_weaken_monotonically() {
     }
 }
 
+/// `CutBlock::profile` at the output lines reads exactly what the `profile_x*` outputs read;
+/// off the block there is no surface.
+#[test]
+fn profiles_at_any_line_read_as_the_outputs_do() {
+    let s = CutBlock::new();
+    let stations: Vec<f64> = (0..PROFILE_STATIONS).map(|i| 0.5 * i as f64).collect();
+    assert!(matches!(
+        s.profile(50.0, &stations),
+        Err(SceneError::NotInitialized { .. })
+    ));
+    let mut s = scene(&[], &[]);
+    step(&mut s, &[("pull", 10.0), ("scalpel_x", 100.0)]);
+    for x in [25, 50, 75] {
+        let mut output = vec![0.0; PROFILE_STATIONS];
+        let vr = s.lookup(&format!("profile_x{x}")).unwrap();
+        s.get_real(vr, &mut output).unwrap();
+        let line = s.profile(f64::from(x), &stations).unwrap();
+        assert_eq!(
+            line.iter().map(|z| z.to_bits()).collect::<Vec<_>>(),
+            output.iter().map(|z| z.to_bits()).collect::<Vec<_>>(),
+            "x = {x}"
+        );
+    }
+    let between = s.profile(37.5, &stations).unwrap();
+    assert!(between.iter().filter(|z| z.is_finite()).count() > 150);
+    assert!(s
+        .profile(130.0, &stations)
+        .unwrap()
+        .iter()
+        .all(|z| z.is_nan()));
+}
+
 #[test]
 fn full_length_cut_is_mirror_symmetric_in_x() {
     let mut s = scene(&[], &[]);

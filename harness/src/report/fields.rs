@@ -1,11 +1,11 @@
 use anyhow::{Context, Result};
 
 use super::plot::{self, MeshMap};
-use super::{vtu, Report};
+use super::{vtu, Depth, Report};
 use crate::studies::fields::{abdomen_pressed, cutblock_pulled};
 
-/// Adds the section to `report`.
-pub fn section(report: &mut Report) -> Result<()> {
+/// Adds the section to `report` (the same at every depth).
+pub fn section(report: &mut Report, _: Depth) -> Result<()> {
     report.heading("Fields");
     abdomen(report)?;
     cutblock(report)

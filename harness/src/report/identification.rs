@@ -1,8 +1,9 @@
 //! The identification report: E and ν of a cut-block model fitted to a measurement set, with
 //! intervals, correlation and the model-form check (residuals against the stated noise);
 //! the profile deviations against seed 002's acceptance criterion; plots of forces and
-//! profiles, data against model. The default report fits the shipped sets A and C with the
-//! matching model (neo-Hookean tet10) and with the linear one.
+//! profiles, data against model; the same as JSON for scripts. The full default report fits
+//! the shipped sets A and C with the matching model (neo-Hookean tet10) and with the linear
+//! one, the quick one set C with the matching model.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -13,21 +14,15 @@ use models::scene::cutblock::PROFILE_STEP;
 use rayon::prelude::*;
 
 use super::plot::{self, Axis, Chart, Curve, Mark};
-use super::Report;
+use super::{Depth, Report};
 use crate::studies::identify::{identify, Fit, Model, FORCE_LEVEL, NU_RANGE, PROFILE_LEVEL};
-use crate::studies::measurements::Measurements;
+use crate::studies::measurements::{Measurements, Source};
 use crate::studies::profiles::align;
-use crate::sweep::experiment::shipped_dir;
 
-/// The shipped measurement sets (`experiments/data/cutblock`).
-pub fn shipped_data() -> PathBuf {
-    shipped_dir().join("data/cutblock")
-}
-
-/// One fit to make: a set in a folder, a model, and ν if it is given.
+/// One fit to make: a set in a folder (or a shipped one), a model, and ν if it is given.
 #[derive(Debug, Clone)]
 pub struct Job {
-    pub dir: PathBuf,
+    pub data: Source,
     pub set: String,
     pub model: Model,
     pub nu: Option<f64>,
@@ -41,25 +36,31 @@ struct Done {
     time: Duration,
 }
 
-/// The `identify` command: one fit, reported in `out`.
+/// The `identify` command: one fit, reported in `out` (`report.md`, plots, and
+/// `identify.json` for scripts).
 pub fn command(job: Job, out: &Path) -> Result<PathBuf> {
     let mut report = Report::create(out, "Material identification")?;
     let done = run(vec![job])?;
     summary(&mut report, &done);
     for d in &done {
-        fit_section(&mut report, d)?;
+        fit_section(&mut report, d, "identify.json")?;
     }
     report.finish()
 }
 
-/// The default report's section: sets A and C with the neo-Hookean tet10 model (the law
-/// and element the data were made with) and the linear tet4 one, then a summary.
-pub fn shipped(report: &mut Report) -> Result<()> {
+/// The default report's section. Full: sets A and C with the neo-Hookean tet10 model (the
+/// law and element the data were made with) and the linear tet4 one. Quick: set C with
+/// neo-Hookean tet10 (the faster set; the model at the noise level).
+pub fn shipped(report: &mut Report, depth: Depth) -> Result<()> {
+    let (sets, models): (&[&str], &[(&str, &str)]) = match depth {
+        Depth::Quick => (&["C"], &[("neo-hookean", "tet10")]),
+        Depth::Full => (&["A", "C"], &[("neo-hookean", "tet10"), ("linear", "tet4")]),
+    };
     let mut jobs = Vec::new();
-    for set in ["A", "C"] {
-        for (material, element) in [("neo-hookean", "tet10"), ("linear", "tet4")] {
+    for &set in sets {
+        for &(material, element) in models {
             jobs.push(Job {
-                dir: shipped_data(),
+                data: Source::Shipped,
                 set: set.into(),
                 model: Model::new(material, element),
                 nu: None,
@@ -67,10 +68,23 @@ pub fn shipped(report: &mut Report) -> Result<()> {
         }
     }
     let done = run(jobs)?;
-    report.heading("Material identification on the shipped sets A and C");
+    report.heading(&format!(
+        "Material identification on the shipped set{} {}",
+        if sets.len() > 1 { "s" } else { "" },
+        sets.join(" and ")
+    ));
+    if depth == Depth::Quick {
+        report.text(
+            "Quick: set C with the model its data were made with (neo-Hookean tet10); the \
+             intervals below are the fit's accuracy under the stated noise. `--full` adds set \
+             A and the linear tet4 model on both (which is not at the noise level: \
+             model-form error).",
+        );
+    }
     summary(report, &done);
     for d in &done {
-        fit_section(report, d)?;
+        let json = format!("{}.json", stem(d));
+        fit_section(report, d, &json)?;
     }
     Ok(())
 }
@@ -82,7 +96,7 @@ fn run(jobs: Vec<Job>) -> Result<Vec<Done>> {
         .expect("the template is valid");
     jobs.into_par_iter()
         .map(|job| {
-            let data = Measurements::load(&job.dir, &job.set)?;
+            let data = Measurements::load(&job.data, &job.set)?;
             let bar = bars.add(ProgressBar::new_spinner().with_style(style.clone()));
             let name = format!("set {} with {}", job.set, job.model);
             bar.set_message(format!("{name}: first run"));
@@ -168,16 +182,20 @@ fn summary(report: &mut Report, done: &[Done]) {
     );
 }
 
-/// One fit: parameters, residuals, warnings, plots and the profile table.
-fn fit_section(report: &mut Report, d: &Done) -> Result<()> {
+/// The file stem of a fit's plots and results.
+fn stem(d: &Done) -> String {
+    format!("identify_{}_{}", d.job.set, d.fit.model).replace([' ', '-'], "_")
+}
+
+/// One fit: parameters, residuals, warnings, plots and the profile table; the results as
+/// JSON in `json`.
+fn fit_section(report: &mut Report, d: &Done, json: &str) -> Result<()> {
     let (f, m) = (&d.fit, &d.data);
     let s = &m.specimen;
     let noise = s.noise;
     report.heading(&format!(
         "Identification: set {} in {}, {} model",
-        d.job.set,
-        d.job.dir.display(),
-        f.model
+        d.job.set, d.job.data, f.model
     ));
     report.text(&format!(
         "Specimen: {} × {} × {} mm, cut at y = {} mm, {} mm deep, x from 0 to {} mm, {} \
@@ -195,7 +213,7 @@ fn fit_section(report: &mut Report, d: &Done) -> Result<()> {
         s.cells[2],
         m.force.len(),
         noise.force,
-        m.profiles.iter().map(Vec::len).sum::<usize>(),
+        m.profiles.iter().map(|s| s.points.len()).sum::<usize>(),
         noise.profile,
         f.evaluations,
         d.time.as_secs_f64()
@@ -255,12 +273,68 @@ fn fit_section(report: &mut Report, d: &Done) -> Result<()> {
             f.response.warnings.join("; ")
         ));
     }
-    let stem = format!("identify_{}_{}", d.job.set, f.model).replace([' ', '-'], "_");
+    let stem = stem(d);
     forces_plot(report, m, f, &stem)?;
     if m.has_profiles() {
         profiles_section(report, m, f, &stem)?;
     }
+    let results = serde_json::to_vec_pretty(&results(d))?;
+    crate::atomic::write_atomic(&report.path(json), &results)?;
+    report.file("the results for scripts (JSON)", json);
     Ok(())
+}
+
+/// The fit as JSON: values, 95 % intervals, correlation, residuals against the noise, each
+/// scan line's deviation, the verdict (`docs/reference/data-formats.md`).
+fn results(d: &Done) -> serde_json::Value {
+    let (f, m) = (&d.fit, &d.data);
+    let noise = m.specimen.noise;
+    let interval = |value: f64, sigma: f64| [value - 1.96 * sigma, value + 1.96 * sigma];
+    serde_json::json!({
+        "set": d.job.set,
+        "data": d.job.data.to_string(),
+        "model": { "material": f.model.material, "element": f.model.element },
+        "E_MPa": {
+            "value": f.e,
+            "sigma": f.sigma_e,
+            "interval95": interval(f.e, f.sigma_e),
+        },
+        "nu": {
+            "value": f.nu,
+            "given": f.sigma_nu.is_none(),
+            "sigma": f.sigma_nu,
+            "interval95": f.sigma_nu.map(|s| interval(f.nu, s)),
+            "at_bound": f.at_bound,
+            "search_interval": [NU_RANGE.0, NU_RANGE.1],
+        },
+        "correlation": f.correlation,
+        "forces": {
+            "points": m.force.len(),
+            "rms_N": f.force_rms,
+            "noise_N": noise.force,
+            "rms_over_noise": f.force_rms / noise.force,
+            "chi2_per_point": f.force_chi2,
+            "limit_rms_over_noise": FORCE_LEVEL,
+        },
+        "profiles": {
+            "pull_mm": m.profile_pull(),
+            "rms_mm": f.profile_rms,
+            "noise_mm": noise.profile,
+            "rms_over_noise": f.profile_rms / noise.profile,
+            "limit_rms_over_noise": PROFILE_LEVEL,
+            "lines": m.profiles.iter().zip(&f.lines).map(|(s, l)| serde_json::json!({
+                "x_mm": s.x,
+                "points_compared": l.points,
+                "rms_mm": l.rms,
+                "max_mm": l.max,
+            })).collect::<Vec<_>>(),
+        },
+        "at_noise_level": f.at_noise_level(m),
+        "verdict": verdict(d).replace("**", ""),
+        "warnings": f.response.warnings,
+        "runs": f.evaluations,
+        "seconds": d.time.as_secs_f64(),
+    })
 }
 
 fn forces_plot(report: &mut Report, m: &Measurements, f: &Fit, stem: &str) -> Result<()> {
@@ -305,11 +379,11 @@ fn profiles_section(report: &mut Report, m: &Measurements, f: &Fit, stem: &str) 
     let limit = 0.01 * m.specimen.size.iter().copied().fold(0.0, f64::max);
     let verdict = |max: f64| if max < limit { "meets" } else { "misses" };
     let mut rows = Vec::new();
-    for (k, x) in [25, 50, 75].iter().enumerate() {
+    for (k, scan) in m.profiles.iter().enumerate() {
         let lab = f.lines[k];
-        let a = align(&f.response.profiles[k], &m.profiles[k])?;
+        let a = align(&f.response.profiles[k], &scan.points)?;
         rows.push(vec![
-            format!("x = {x} mm"),
+            format!("x = {} mm", scan.x),
             lab.points.to_string(),
             format!("{:.3} / {:.3}", lab.rms, lab.max),
             verdict(lab.max).into(),
@@ -331,8 +405,9 @@ fn profiles_section(report: &mut Report, m: &Measurements, f: &Fit, stem: &str) 
         &rows,
     );
     let mut curves = Vec::new();
-    for (k, x) in [25, 50, 75].iter().enumerate() {
-        let data = m.profiles[k].clone();
+    for (k, scan) in m.profiles.iter().enumerate() {
+        let x = scan.x;
+        let data = scan.points.clone();
         curves.push(Curve::new(&format!("scan x = {x} mm"), data, Mark::Dots).colour(k));
         let model = f.response.profiles[k]
             .iter()

@@ -5,10 +5,11 @@
 //! markdown      Report: a folder and its report.md
 //! plot          charts and mesh maps (plotters)
 //! vtu           fields for ParaView (vtkio)
-//! sections      verification, identification, speed_error, sweep, fields:
-//!               each adds itself to a Report
+//! sections      verification, identification, speed_error, cut_speed_error, sweep,
+//!               model_order, fields: each adds itself to a Report at a Depth
 //! default       the main job: every section on built-in defaults, listed once
 //! series        one run of a scene as a time-series CSV (`harness simulate`)
+//! variables     the variable reference of a scene (`harness describe`)
 //! ```
 
 pub mod cut_speed_error;
@@ -21,6 +22,7 @@ pub mod plot;
 pub mod series;
 pub mod speed_error;
 pub mod sweep;
+pub mod variables;
 pub mod verification;
 pub mod vtu;
 
@@ -30,12 +32,24 @@ use anyhow::Result;
 
 pub use markdown::Report;
 
-/// A report section: adds its headings, tables, figures and files to a report.
-pub type Section = fn(&mut Report) -> Result<()>;
+/// How far a section goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Depth {
+    /// Every capability once, at settings chosen for time, each labelled with the accuracy
+    /// it has (the main job, `harness report`).
+    Quick,
+    /// The converged studies: references, full speed–error fronts, every identification,
+    /// full against reduced order (`harness report --full` and the single-study commands).
+    Full,
+}
 
-/// Writes a report in `out` with one section and returns the path of its `report.md`.
-pub fn write(out: &Path, title: &str, section: Section) -> Result<PathBuf> {
+/// A report section: adds its headings, tables, figures and files to a report.
+pub type Section = fn(&mut Report, Depth) -> Result<()>;
+
+/// Writes a report in `out` with one section at `depth` and returns the path of its
+/// `report.md`.
+pub fn write(out: &Path, title: &str, section: Section, depth: Depth) -> Result<PathBuf> {
     let mut report = Report::create(out, title)?;
-    section(&mut report)?;
+    section(&mut report, depth)?;
     report.finish()
 }

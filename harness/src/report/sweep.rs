@@ -9,7 +9,6 @@ use anyhow::Result;
 
 use super::plot::{self, Axis, Chart, Curve, Mark};
 use super::Report;
-use crate::sweep::experiment::shipped_dir;
 use crate::sweep::{runner, CaseResult, Design, Experiment, Outcome, Series, Value};
 
 /// The unit of a parameter or output, from the scene's table or its generator parameters.
@@ -38,7 +37,7 @@ pub fn command(
     jobs: Option<usize>,
     plan_only: bool,
 ) -> Result<PathBuf> {
-    let mut e = Experiment::load(path)?;
+    let mut e = Experiment::open(path)?;
     if let Some(j) = jobs {
         e.jobs = j;
     }
@@ -50,10 +49,10 @@ pub fn command(
     Ok(sweep(&e, &dir)?.0)
 }
 
-/// Runs a shipped sweep (`experiments/<name>.toml`) into a subfolder of `report` and
+/// Runs a shipped sweep ([`Experiment::shipped`]) into a subfolder of `report` and
 /// summarizes it there, with the plots of the parameters in `shown` inline.
 pub fn shipped(report: &mut Report, name: &str, shown: &[&str]) -> Result<()> {
-    let e = Experiment::load(&shipped_dir().join(format!("{name}.toml")))?;
+    let e = Experiment::shipped(name)?;
     report.heading(&format!("Sweep `{name}` ({} cases)", e.cases.len()));
     report.text(&e.description);
     let (_, correlations) = sweep(&e, &report.path(name))?;

@@ -3,11 +3,11 @@
 
 use anyhow::Result;
 
-use super::Report;
+use super::{Depth, Report};
 use crate::studies::verification::TABLES;
 
-/// Adds the section to `report`.
-pub fn section(report: &mut Report) -> Result<()> {
+/// Adds the section to `report` (the same at every depth).
+pub fn section(report: &mut Report, _: Depth) -> Result<()> {
     report.heading("Verification");
     for table in TABLES {
         let mut text = String::new();

@@ -100,6 +100,30 @@ impl Default for Study {
     }
 }
 
+impl Study {
+    /// The quick report's study: the three laws with tet4 on the default mesh against
+    /// neo-Hookean tet10 on the same mesh (itself not mesh-converged: the full study
+    /// measures it against twice the cells).
+    pub fn quick() -> Self {
+        let at_1x = |material, element| Model {
+            material,
+            element,
+            refine: 1,
+        };
+        let reference = at_1x("neo-hookean", "tet10");
+        Self {
+            cells: [6, 16, 14],
+            models: vec![
+                at_1x("linear", "tet4"),
+                at_1x("neo-hookean", "tet4"),
+                at_1x("stvk", "tet4"),
+                reference.clone(),
+            ],
+            reference,
+        }
+    }
+}
+
 /// Runs `model` on the block with `cells` at refine 1: full cut and 10 mm pull in one step.
 pub fn run(cells: [u32; 3], model: &Model) -> Result<Answer> {
     let start = Instant::now();

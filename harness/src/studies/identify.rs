@@ -13,7 +13,7 @@
 //! E(ν) = Σ F g / Σ g², and ν minimizes χ²(E(ν), ν) by Brent's method (argmin) in
 //! [`NU_RANGE`]. g(ν, d) comes from one run of the scene per ν with E = 1 through the
 //! measured pulls (a nonlinear solve at each for the finite-strain laws), h(ν) from the same
-//! run at the largest pull. The profiles carry nearly all the information on ν: the forces
+//! run at the largest pull, along each scan line the specimen names. The profiles carry nearly all the information on ν: the forces
 //! alone fit almost any ν with its own E (the E–ν trade-off seed 002 ch. 4 found). Without
 //! profiles ν must be given and only E is fitted.
 //!
@@ -32,7 +32,7 @@ use std::sync::Mutex;
 use anyhow::{bail, Context, Result};
 use argmin::core::{CostFunction, Error as ArgminError, Executor};
 use argmin::solver::brent::BrentOpt;
-use models::scene::cutblock::{CutBlock, PROFILE_LINES};
+use models::scene::cutblock::{CutBlock, PROFILE_STEP};
 
 use super::measurements::{Measurements, Specimen};
 use super::profiles::{deviation, heights, Deviation};
@@ -77,27 +77,30 @@ pub struct Response {
     pub nu: f64,
     /// Reaction force per unit E at each measured pull: g(ν, d).
     pub force_per_e: Vec<f64>,
-    /// Heights at the model's stations along x = 25, 50, 75 mm at the largest pull (NaN
-    /// where there is no surface); empty without profiles.
-    pub profiles: [Vec<f64>; 3],
+    /// Heights at the model's stations (every [`PROFILE_STEP`] mm from y = 0) along each
+    /// scan line at the largest pull (NaN where there is no surface); empty without
+    /// profiles.
+    pub profiles: Vec<Vec<f64>>,
     /// What the scene warned about (e.g. the linear law beyond its strain).
     pub warnings: Vec<String>,
 }
 
 /// Runs the specimen of `m` with `model`, E = 1 and `nu` through the measured pulls, with
-/// the profiles if `m` has scans.
+/// the profiles along its scan lines if `m` has scans.
 pub fn response(m: &Measurements, model: &Model, nu: f64) -> Result<Response> {
-    run(&m.specimen, &m.displacement, model, nu, m.has_profiles())
+    let lines: Vec<f64> = m.profiles.iter().map(|s| s.x).collect();
+    run(&m.specimen, &m.displacement, model, nu, &lines)
 }
 
-/// Runs `specimen` with `model`, E = 1 and `nu` through `pulls`; records the profiles at
-/// the last pull if `scans`.
+/// Runs `specimen` with `model`, E = 1 and `nu` through `pulls`; reads the profiles along
+/// the scan `lines` (x, mm) at the last pull, at stations every [`PROFILE_STEP`] mm from
+/// y = 0 to 10 mm beyond the pulled end.
 pub fn run(
     specimen: &Specimen,
     pulls: &[f64],
     model: &Model,
     nu: f64,
-    scans: bool,
+    lines: &[f64],
 ) -> Result<Response> {
     let mut settings = specimen.settings();
     settings.extend([
@@ -121,11 +124,7 @@ pub fn run(
             },
         ),
     ]);
-    let profiles = PROFILE_LINES.map(|x| format!("profile_x{x:.0}"));
-    let mut record = vec!["reaction_force".to_string()];
-    if scans {
-        record.extend(profiles.iter().cloned());
-    }
+    let record = vec!["reaction_force".to_string()];
     let schedule = Schedule {
         start_time: 0.0,
         stop_time: n as f64,
@@ -134,21 +133,21 @@ pub fn run(
         inputs: &inputs,
         record: &record,
     };
-    let run = simulate(&mut InProcess(Box::new(CutBlock::new())), &schedule)
-        .with_context(|| format!("{model} at ν = {nu}"))?;
+    let mut session = InProcess(Box::new(CutBlock::new()));
+    let run = simulate(&mut session, &schedule).with_context(|| format!("{model} at ν = {nu}"))?;
     let force = run.series.column("reaction_force").context("recorded")?;
-    let profile = |name: &String| {
-        if scans {
-            run.series.array(name, n).context("recorded")
-        } else {
-            Ok(Vec::new())
-        }
-    };
-    let [a, b, c] = profiles.each_ref().map(profile);
+    let end = specimen.size[1] + pulls.last().copied().unwrap_or(0.0) + 10.0;
+    let stations: Vec<f64> = (0..=(end / PROFILE_STEP).ceil() as usize)
+        .map(|i| i as f64 * PROFILE_STEP)
+        .collect();
+    let profiles = lines
+        .iter()
+        .map(|&x| session.0.profile(x, &stations))
+        .collect::<Result<_, _>>()?;
     Ok(Response {
         nu,
         force_per_e: force[1..].to_vec(),
-        profiles: [a?, b?, c?],
+        profiles,
         warnings: run.warnings,
     })
 }
@@ -168,8 +167,12 @@ fn force_ssr(e: f64, g: &[f64], m: &Measurements) -> f64 {
 }
 
 /// The deviation of each scanned line.
-fn lines(r: &Response, m: &Measurements) -> [Deviation; 3] {
-    [0, 1, 2].map(|k| deviation(&r.profiles[k], &m.profiles[k]))
+fn lines(r: &Response, m: &Measurements) -> Vec<Deviation> {
+    r.profiles
+        .iter()
+        .zip(&m.profiles)
+        .map(|(model, scan)| deviation(model, &scan.points))
+        .collect()
 }
 
 /// Σ (z − h)² over all compared profile points, and their number.
@@ -201,9 +204,9 @@ pub struct Fit {
     /// RMS force residual (N) and χ² per force point.
     pub force_rms: f64,
     pub force_chi2: f64,
-    /// RMS profile deviation (mm) over all compared points, and each line's deviation.
+    /// RMS profile deviation (mm) over all compared points, and each scan line's deviation.
     pub profile_rms: f64,
-    pub lines: [Deviation; 3],
+    pub lines: Vec<Deviation>,
     /// Whether the fitted ν lies at an end of [`NU_RANGE`]: the model fits best with a ν
     /// outside what it can take, so ν (and E with it) is no material value.
     pub at_bound: bool,
@@ -306,6 +309,12 @@ pub fn identify(
     let n = m.force.len() as f64;
     let ssr = force_ssr(e, &r.force_per_e, m);
     let (profiles, points) = profile_ssr(&r, m);
+    if m.has_profiles() && points == 0 {
+        bail!(
+            "no profile point could be compared at ν = {nu}: the model has no top surface at \
+             any scanned y (do the scans belong to this specimen?)"
+        );
+    }
     let evaluations = cache.runs.lock().expect("no panic holds the lock").len();
     Ok(Fit {
         model: model.clone(),
@@ -316,7 +325,11 @@ pub fn identify(
         correlation: covariance.map(|c| c[0][1] / (c[0][0] * c[1][1]).sqrt()),
         force_rms: (ssr / n).sqrt(),
         force_chi2: ssr / m.specimen.noise.force.powi(2) / n,
-        profile_rms: (profiles / points.max(1) as f64).sqrt(),
+        profile_rms: if points == 0 {
+            0.0
+        } else {
+            (profiles / points as f64).sqrt()
+        },
         lines: lines(&r, m),
         at_bound: fixed_nu.is_none() && (nu - NU_RANGE.0).min(NU_RANGE.1 - nu) < 2.0 * NU_STEP,
         response: r,
@@ -346,8 +359,8 @@ fn covariance(
         let dg = (hi.force_per_e[k] - lo.force_per_e[k]) / (2.0 * NU_STEP);
         add([r.force_per_e[k] / noise.force, e * dg / noise.force]);
     }
-    for line in 0..3 {
-        let at = |q: &Response| heights(&q.profiles[line], &m.profiles[line]);
+    for (line, scan) in m.profiles.iter().enumerate() {
+        let at = |q: &Response| heights(&q.profiles[line], &scan.points);
         let (h, h_lo, h_hi) = (at(r), at(lo), at(hi));
         for ((h, l), u) in h.iter().zip(&h_lo).zip(&h_hi) {
             if let (Some(_), Some(l), Some(u)) = (h, l, u) {
@@ -368,10 +381,10 @@ fn covariance(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::studies::measurements::Noise;
-    use models::scene::cutblock::PROFILE_STEP;
+    use crate::studies::measurements::{Noise, Scan};
 
-    /// A specimen other than the default: coarser, cut at y = 35 mm, 6 mm deep.
+    /// A specimen other than the default: coarser, cut at y = 35 mm, 6 mm deep, scanned
+    /// along x = 30 and 60 mm.
     fn specimen() -> Specimen {
         Specimen {
             size: [100.0, 80.0, 17.0],
@@ -380,6 +393,7 @@ mod tests {
             cut_depth: 6.0,
             cut_x: 100.0,
             support: "clamped".into(),
+            scan_lines: vec![30.0, 60.0],
             noise: Noise {
                 force: 0.03,
                 profile: 0.02,
@@ -390,21 +404,31 @@ mod tests {
     /// Noise-free data of `model` with known E and ν on [`specimen`], pulls 0, 2, …, 10 mm.
     fn synthetic(model: &Model, e: f64, nu: f64) -> Measurements {
         let displacement: Vec<f64> = (0..=5).map(|k| 2.0 * f64::from(k)).collect();
-        let r = run(&specimen(), &displacement, model, nu, true).unwrap();
+        let lines = specimen().scan_lines;
+        let r = run(&specimen(), &displacement, model, nu, &lines).unwrap();
         Measurements {
             specimen: specimen(),
             force: r.force_per_e.iter().map(|g| e * g).collect(),
             displacement,
-            profiles: r.profiles.map(|p| {
-                p.iter()
-                    .enumerate()
-                    .filter(|(_, z)| z.is_finite())
-                    .map(|(i, z)| (i as f64 * PROFILE_STEP, *z))
-                    .collect()
-            }),
+            profiles: lines
+                .iter()
+                .zip(&r.profiles)
+                .map(|(&x, p)| Scan {
+                    x,
+                    points: p
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, z)| z.is_finite())
+                        .map(|(i, z)| (i as f64 * PROFILE_STEP, *z))
+                        .collect(),
+                })
+                .collect(),
         }
     }
 
+    /// On noise-free data along scan lines other than the seed's, the fit lands on the
+    /// parameters the data were made with to within Brent's tolerance on ν (1e-4
+    /// relative) and what follows from it for E.
     #[test]
     fn recovers_known_parameters_of_the_neo_hookean_tet10_model() {
         let model = Model::new("neo-hookean", "tet10");
@@ -421,8 +445,8 @@ mod tests {
             fit.correlation.unwrap(),
             fit.evaluations
         );
-        assert!(((fit.e - e) / e).abs() < 0.005, "{}", fit.e);
-        assert!(((fit.nu - nu) / nu).abs() < 0.005, "{}", fit.nu);
+        assert!(((fit.e - e) / e).abs() < 2e-4, "{}", fit.e);
+        assert!(((fit.nu - nu) / nu).abs() < 2e-4, "{}", fit.nu);
         assert!(fit.profile_rms < 1e-3 && fit.force_rms < 1e-4);
         assert!(fit.at_noise_level(&m));
     }

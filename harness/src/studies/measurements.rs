@@ -1,16 +1,116 @@
 //! A measurement set of the cut block: the specimen it was taken on (`specimen_<S>.toml`:
-//! block, cut, supports, mesh, noise levels), its force–displacement points
-//! (`force_displacement_<S>.csv`) and, if scanned, its laser profiles along x = 25, 50,
-//! 75 mm at the largest pull (`profile_<S>_x25.csv`, …). The shipped sets and their
-//! provenance are in `experiments/data/cutblock/`.
+//! block, cut, supports, mesh, scan lines, noise levels), its force–displacement points
+//! (`force_displacement_<S>.csv`) and, if scanned, its laser profiles at the largest pull,
+//! one file per scan line x = X mm (`profile_<S>_x<X>.csv`). The formats are documented in
+//! `docs/reference/data-formats.md`; the shipped sets A and C and their provenance are in
+//! `experiments/data/cutblock/` and compiled into the harness ([`Source::Shipped`]).
+//!
+//! Everything read is checked on the way in: a value that is not a finite number, a
+//! missing or unknown column, a file without data rows, pulls that do not increase — each
+//! error names the file, and the line and column where there is one.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{bail, ensure, Context, Result};
-use models::scene::cutblock::PROFILE_LINES;
 use serde::Deserialize;
 
 use crate::sweep::Value;
+
+/// The shipped sets A and C (`experiments/data/cutblock`), compiled in so that a copied
+/// binary identifies them without the source tree.
+const SHIPPED: [(&str, &str); 10] = [
+    (
+        "specimen_A.toml",
+        include_str!("../../../experiments/data/cutblock/specimen_A.toml"),
+    ),
+    (
+        "force_displacement_A.csv",
+        include_str!("../../../experiments/data/cutblock/force_displacement_A.csv"),
+    ),
+    (
+        "profile_A_x25.csv",
+        include_str!("../../../experiments/data/cutblock/profile_A_x25.csv"),
+    ),
+    (
+        "profile_A_x50.csv",
+        include_str!("../../../experiments/data/cutblock/profile_A_x50.csv"),
+    ),
+    (
+        "profile_A_x75.csv",
+        include_str!("../../../experiments/data/cutblock/profile_A_x75.csv"),
+    ),
+    (
+        "specimen_C.toml",
+        include_str!("../../../experiments/data/cutblock/specimen_C.toml"),
+    ),
+    (
+        "force_displacement_C.csv",
+        include_str!("../../../experiments/data/cutblock/force_displacement_C.csv"),
+    ),
+    (
+        "profile_C_x25.csv",
+        include_str!("../../../experiments/data/cutblock/profile_C_x25.csv"),
+    ),
+    (
+        "profile_C_x50.csv",
+        include_str!("../../../experiments/data/cutblock/profile_C_x50.csv"),
+    ),
+    (
+        "profile_C_x75.csv",
+        include_str!("../../../experiments/data/cutblock/profile_C_x75.csv"),
+    ),
+];
+
+/// Where a set's files are: a folder, or the shipped sets compiled into the harness.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Source {
+    Folder(PathBuf),
+    Shipped,
+}
+
+impl Source {
+    /// A file's text, `None` if there is no such file.
+    fn read(&self, file: &str) -> Result<Option<String>> {
+        match self {
+            Self::Shipped => Ok(SHIPPED
+                .iter()
+                .find(|(name, _)| *name == file)
+                .map(|(_, text)| text.to_string())),
+            Self::Folder(dir) => {
+                let path = dir.join(file);
+                if !path.is_file() {
+                    return Ok(None);
+                }
+                let text = std::fs::read_to_string(&path)
+                    .with_context(|| format!("reading {}", path.display()))?;
+                Ok(Some(text))
+            }
+        }
+    }
+
+    /// A file's text, or an error naming it.
+    fn require(&self, file: &str) -> Result<String> {
+        self.read(file)?
+            .with_context(|| format!("{}: no such file", self.name(file)))
+    }
+
+    /// How errors name a file of this source.
+    pub fn name(&self, file: &str) -> String {
+        match self {
+            Self::Shipped => format!("{file} (shipped set)"),
+            Self::Folder(dir) => dir.join(file).display().to_string(),
+        }
+    }
+}
+
+impl std::fmt::Display for Source {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Shipped => write!(f, "the shipped sets (experiments/data/cutblock)"),
+            Self::Folder(dir) => write!(f, "{}", dir.display()),
+        }
+    }
+}
 
 /// Standard deviations of the measurement noise.
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
@@ -20,6 +120,11 @@ pub struct Noise {
     pub force: f64,
     /// Scanner height noise (mm).
     pub profile: f64,
+}
+
+/// The scan lines of seed 002's scanner (x, mm), the default of [`Specimen::scan_lines`].
+fn seed_scan_lines() -> Vec<f64> {
+    vec![25.0, 50.0, 75.0]
 }
 
 /// The specimen a set was measured on: what the scene is built with to fit it.
@@ -37,26 +142,39 @@ pub struct Specimen {
     pub cut_x: f64,
     /// The scene's `support` (`clamped`, `gripped` or `sliding`).
     pub support: String,
+    /// The x (mm) of each laser scan line, each with its file `profile_<S>_x<X>.csv`
+    /// (X as written here, e.g. 25 or 37.5).
+    #[serde(default = "seed_scan_lines")]
+    pub scan_lines: Vec<f64>,
     pub noise: Noise,
 }
 
 impl Specimen {
     /// Reads and checks a specimen file.
-    pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("opening the specimen file {}", path.display()))?;
-        let s: Self = toml::from_str(&text).with_context(|| format!("in {}", path.display()))?;
+    pub fn parse(text: &str, origin: &str) -> Result<Self> {
+        let s: Self = toml::from_str(text).with_context(|| format!("in {origin}"))?;
         for (name, value) in [
             ("noise.force", s.noise.force),
             ("noise.profile", s.noise.profile),
         ] {
             ensure!(
                 value.is_finite() && value > 0.0,
-                "{}: {name} = {value} must be a positive standard deviation",
-                path.display()
+                "{origin}: {name} = {value} must be a positive standard deviation"
+            );
+        }
+        for (k, &x) in s.scan_lines.iter().enumerate() {
+            ensure!(
+                x.is_finite() && x > 0.0 && x < s.size[0],
+                "{origin}: scan_lines[{k}] = {x} must lie inside the block, 0 < x < size[0] = {}",
+                s.size[0]
             );
         }
         Ok(s)
+    }
+
+    /// The file of the scan line at `x`.
+    pub fn profile_file(set: &str, x: f64) -> String {
+        format!("profile_{set}_x{x}.csv")
     }
 
     /// The scene settings that build this specimen (the scene checks the values).
@@ -76,6 +194,15 @@ impl Specimen {
     }
 }
 
+/// The points of one scan line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scan {
+    /// The line's x (mm).
+    pub x: f64,
+    /// (y, z) points in lab coordinates (mm).
+    pub points: Vec<(f64, f64)>,
+}
+
 /// A measurement set.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Measurements {
@@ -83,35 +210,75 @@ pub struct Measurements {
     /// Pulls (mm, increasing) and the reaction forces measured at them (N).
     pub displacement: Vec<f64>,
     pub force: Vec<f64>,
-    /// (y, z) points along x = 25, 50, 75 mm; empty when the set has no scans.
-    pub profiles: [Vec<(f64, f64)>; 3],
+    /// One scan per line of the specimen at the largest pull; empty when the set has none.
+    pub profiles: Vec<Scan>,
 }
 
-fn read_pairs(path: &Path) -> Result<Vec<(f64, f64)>> {
-    let mut reader =
-        csv::Reader::from_path(path).with_context(|| format!("opening {}", path.display()))?;
+/// The rows of a two-column CSV read by column name (any order, extra columns refused):
+/// (`columns[0]`, `columns[1]`) per row, each a finite number.
+fn read_pairs(text: &str, origin: &str, columns: [&str; 2]) -> Result<Vec<(f64, f64)>> {
+    let mut reader = csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .from_reader(text.as_bytes());
+    let header = reader
+        .headers()
+        .with_context(|| format!("{origin}: reading the header"))?
+        .clone();
+    let found: Vec<&str> = header.iter().collect();
+    let position = |name: &str| found.iter().position(|h| *h == name);
+    let (Some(a), Some(b), 2) = (position(columns[0]), position(columns[1]), found.len()) else {
+        bail!(
+            "{origin}, line 1: the header must name the columns `{}` and `{}` (in either \
+             order); found {}",
+            columns[0],
+            columns[1],
+            found
+                .iter()
+                .map(|h| format!("`{h}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    };
     let mut out = Vec::new();
-    for (i, row) in reader.deserialize::<(f64, f64)>().enumerate() {
-        out.push(row.with_context(|| format!("{}: data row {}", path.display(), i + 1))?);
+    for record in reader.records() {
+        let record = record.with_context(|| format!("{origin}: reading a row"))?;
+        let line = record.position().map_or(0, |p| p.line());
+        let value = |k: usize, name: &str| -> Result<f64> {
+            let cell = record
+                .get(k)
+                .with_context(|| format!("{origin}, line {line}: no value in column `{name}`"))?;
+            let x: f64 = cell.parse().map_err(|_| {
+                anyhow::anyhow!("{origin}, line {line}, column `{name}`: `{cell}` is not a number")
+            })?;
+            ensure!(
+                x.is_finite(),
+                "{origin}, line {line}, column `{name}`: {cell} is not a finite number"
+            );
+            Ok(x)
+        };
+        out.push((value(a, columns[0])?, value(b, columns[1])?));
     }
-    if out.is_empty() {
-        bail!("{} has no data rows", path.display());
-    }
+    ensure!(!out.is_empty(), "{origin} has no data rows");
     Ok(out)
 }
 
 impl Measurements {
-    /// Reads set `set` from `dir`: its specimen, forces and (if all three are there) its
-    /// profiles. The pulls must increase strictly from 0 or more.
-    pub fn load(dir: &Path, set: &str) -> Result<Self> {
-        let specimen = Specimen::load(&dir.join(format!("specimen_{set}.toml")))?;
-        let path = dir.join(format!("force_displacement_{set}.csv"));
-        let fd = read_pairs(&path)?;
+    /// Reads set `set` from `source`: its specimen, forces and (if any scan file is there)
+    /// one profile per scan line. The pulls must increase strictly from 0 or more.
+    pub fn load(source: &Source, set: &str) -> Result<Self> {
+        let file = format!("specimen_{set}.toml");
+        let specimen = Specimen::parse(&source.require(&file)?, &source.name(&file))?;
+        let file = format!("force_displacement_{set}.csv");
+        let origin = source.name(&file);
+        let fd = read_pairs(
+            &source.require(&file)?,
+            &origin,
+            ["displacement_mm", "force_N"],
+        )?;
         for (k, w) in fd.windows(2).enumerate() {
             ensure!(
                 w[1].0 > w[0].0,
-                "{}: the displacements must increase (row {}: {} after {})",
-                path.display(),
+                "{origin}: the displacements must increase (row {}: {} after {})",
                 k + 2,
                 w[1].0,
                 w[0].0
@@ -119,17 +286,22 @@ impl Measurements {
         }
         ensure!(
             fd[0].0 >= 0.0,
-            "{}: displacement {} is negative (the fit is for pulls)",
-            path.display(),
+            "{origin}: displacement {} is negative (the fit is for pulls)",
             fd[0].0
         );
-        let scans = PROFILE_LINES.map(|x| dir.join(format!("profile_{set}_x{x:.0}.csv")));
-        let profiles = if scans.iter().any(|p| p.is_file()) {
-            let [a, b, c] = scans.each_ref().map(|p| read_pairs(p));
-            [a?, b?, c?]
-        } else {
-            Default::default()
-        };
+        let files: Vec<String> = specimen
+            .scan_lines
+            .iter()
+            .map(|&x| Specimen::profile_file(set, x))
+            .collect();
+        let mut profiles = Vec::new();
+        if files.iter().any(|f| matches!(source.read(f), Ok(Some(_)))) {
+            for (file, &x) in files.iter().zip(&specimen.scan_lines) {
+                let points =
+                    read_pairs(&source.require(file)?, &source.name(file), ["y_mm", "z_mm"])?;
+                profiles.push(Scan { x, points });
+            }
+        }
         Ok(Self {
             specimen,
             displacement: fd.iter().map(|p| p.0).collect(),
@@ -140,7 +312,7 @@ impl Measurements {
 
     /// Whether the set has scanner profiles.
     pub fn has_profiles(&self) -> bool {
-        self.profiles.iter().any(|p| !p.is_empty())
+        !self.profiles.is_empty()
     }
 
     /// The pull at which the profiles were taken: the largest one.
@@ -149,56 +321,156 @@ impl Measurements {
     }
 }
 
+/// The folder of a `--data` argument, or the shipped sets without one.
+pub fn source(data: Option<&Path>) -> Source {
+    data.map_or(Source::Shipped, |d| Source::Folder(d.to_path_buf()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// The compiled-in copies are the repository's files, and they load.
     #[test]
     fn the_shipped_sets_load_with_their_specimens() {
-        let dir = crate::sweep::experiment::shipped_dir().join("data/cutblock");
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../experiments/data/cutblock");
+        for (file, text) in SHIPPED {
+            assert_eq!(
+                std::fs::read_to_string(dir.join(file)).unwrap(),
+                text,
+                "{file}"
+            );
+        }
         for (set, y_cut, depth, force_noise) in
             [("A", 45.0, 8.5, 0.0426), ("C", 50.0, 4.25, 0.0292)]
         {
-            let m = Measurements::load(&dir, set).unwrap();
+            let m = Measurements::load(&Source::Shipped, set).unwrap();
+            assert_eq!(
+                m,
+                Measurements::load(&Source::Folder(dir.clone()), set).unwrap()
+            );
             assert_eq!((m.specimen.y_cut, m.specimen.cut_depth), (y_cut, depth));
             assert_eq!(m.specimen.noise.force, force_noise);
             assert_eq!(m.displacement.len(), 11);
             assert_eq!(m.profile_pull(), 10.0);
-            assert!(m.profiles.iter().all(|p| p.len() > 150));
+            let lines: Vec<f64> = m.profiles.iter().map(|s| s.x).collect();
+            assert_eq!(lines, [25.0, 50.0, 75.0]);
+            assert!(m.profiles.iter().all(|p| p.points.len() > 150));
         }
     }
 
-    #[test]
-    fn bad_files_are_named() {
+    /// A folder with set A's specimen (with `replace` applied) and `files`.
+    fn folder(replace: (&str, &str), files: &[(&str, &str)]) -> tempfile::TempDir {
         let dir = tempfile::tempdir().unwrap();
-        let e = Measurements::load(dir.path(), "A").unwrap_err();
-        assert!(format!("{e:#}").contains("specimen_A.toml"), "{e:#}");
-        let spec = crate::sweep::experiment::shipped_dir().join("data/cutblock/specimen_A.toml");
-        let text = std::fs::read_to_string(spec).unwrap();
+        let spec = Source::Shipped.require("specimen_A.toml").unwrap();
         std::fs::write(
             dir.path().join("specimen_A.toml"),
-            text.replace("force = 0.0426", "force = -1"),
+            spec.replace(replace.0, replace.1),
         )
         .unwrap();
-        let e = Measurements::load(dir.path(), "A").unwrap_err();
-        assert!(format!("{e:#}").contains("noise.force = -1"), "{e:#}");
-        std::fs::write(dir.path().join("specimen_A.toml"), text).unwrap();
-        std::fs::write(
-            dir.path().join("force_displacement_A.csv"),
-            "displacement_mm,force_N\n0,0\n2,1\n1,0.5\n",
-        )
-        .unwrap();
-        let e = Measurements::load(dir.path(), "A").unwrap_err();
-        assert!(
-            format!("{e:#}").contains("must increase (row 3: 1 after 2)"),
-            "{e:#}"
+        for (name, text) in files {
+            std::fs::write(dir.path().join(name), text).unwrap();
+        }
+        dir
+    }
+
+    fn error(replace: (&str, &str), files: &[(&str, &str)]) -> String {
+        let dir = folder(replace, files);
+        let e = Measurements::load(&Source::Folder(dir.path().into()), "A").unwrap_err();
+        format!("{e:#}")
+    }
+
+    const HEADER: &str = "displacement_mm,force_N\n";
+
+    #[test]
+    fn bad_files_are_named_with_line_and_column() {
+        let e = format!(
+            "{:#}",
+            Measurements::load(&Source::Folder("/nowhere".into()), "A").unwrap_err()
         );
-        std::fs::write(
-            dir.path().join("force_displacement_A.csv"),
+        assert!(e.contains("/nowhere/specimen_A.toml: no such file"), "{e}");
+        let e = error(("force = 0.0426", "force = -1"), &[]);
+        assert!(e.contains("noise.force = -1"), "{e}");
+        let e = error(
+            ("cut_x = 100.0", "cut_x = 100.0\nscan_lines = [50.0, 120.0]"),
+            &[],
+        );
+        assert!(e.contains("scan_lines[1] = 120"), "{e}");
+        let cases = [
+            ("0,0\n2,1\n1,0.5\n", "must increase (row 3: 1 after 2)"),
+            (
+                "0,0\n1,NaN\n",
+                "line 3, column `force_N`: NaN is not a finite number",
+            ),
+            (
+                "0,0\ninf,1\n",
+                "line 3, column `displacement_mm`: inf is not a finite number",
+            ),
+            ("0,0\n1,\n", "line 3, column `force_N`: `` is not a number"),
+            ("0,0\n1\n", "reading a row"),
+            ("", "has no data rows"),
+        ];
+        for (rows, expected) in cases {
+            let e = error(
+                ("", ""),
+                &[("force_displacement_A.csv", &format!("{HEADER}{rows}"))],
+            );
+            assert!(
+                e.contains("force_displacement_A.csv") && e.contains(expected),
+                "{rows:?}: {e}"
+            );
+        }
+        let e = error(
+            ("", ""),
+            &[("force_displacement_A.csv", "d,force_N\n0,0\n")],
+        );
+        assert!(
+            e.contains("line 1: the header must name the columns `displacement_mm` and `force_N`")
+                && e.contains("found `d`, `force_N`"),
+            "{e}"
+        );
+        let forces = (
+            "force_displacement_A.csv",
             "displacement_mm,force_N\n0,0\n1,0.5\n",
-        )
-        .unwrap();
-        let m = Measurements::load(dir.path(), "A").unwrap();
+        );
+        let e = error(("", ""), &[forces, ("profile_A_x25.csv", "y_mm,z_mm\n")]);
+        assert!(e.contains("profile_A_x25.csv has no data rows"), "{e}");
+        let e = error(
+            ("", ""),
+            &[forces, ("profile_A_x25.csv", "y_mm,z_mm\n1,17\n")],
+        );
+        assert!(e.contains("profile_A_x50.csv: no such file"), "{e}");
+    }
+
+    /// Columns are read by name; scan lines anywhere the specimen names them; no scans
+    /// at all is a set without profiles.
+    #[test]
+    fn columns_by_name_and_scan_lines_anywhere() {
+        let swapped = (
+            "force_displacement_A.csv",
+            "force_N, displacement_mm\n0,0\n0.5,1\n",
+        );
+        let dir = folder(
+            ("cut_x = 100.0", "cut_x = 100.0\nscan_lines = [37.5]"),
+            &[
+                swapped,
+                ("profile_A_x37.5.csv", "z_mm,y_mm\n17,1\n16.5,2\n"),
+            ],
+        );
+        let m = Measurements::load(&Source::Folder(dir.path().into()), "A").unwrap();
+        assert_eq!(
+            (m.displacement.clone(), m.force.clone()),
+            (vec![0.0, 1.0], vec![0.0, 0.5])
+        );
+        assert_eq!(
+            m.profiles,
+            [Scan {
+                x: 37.5,
+                points: vec![(1.0, 17.0), (2.0, 16.5)]
+            }]
+        );
+        let dir = folder(("", ""), &[swapped]);
+        let m = Measurements::load(&Source::Folder(dir.path().into()), "A").unwrap();
         assert!(!m.has_profiles());
     }
 }

@@ -1,36 +1,10 @@
-//! Experiment files (TOML, in `experiments/`): the scene, its base configuration, the
-//! parameters to vary, the inputs over time, the outputs to record, the backend and the
-//! parallelism. [`Experiment::load`] checks everything it can before any case runs — names
-//! against the scene's variable table, values against their ranges, the input tables, the
-//! backend — and names the bad key in its error. Example (`experiments/pelvis_sweep.toml`):
-//!
-//! ```toml
-//! name = "pelvis_sweep"
-//! scene = "abdomen"
-//! backend = "in-process"        # or "fmu" (then `fmu = "path/to/abdomen-fmi2.fmu"`)
-//! stop_time = 1.0               # s
-//! step = 0.01                   # communication step, s (start_time = 0 unless given)
-//! jobs = 2                      # cases run in parallel (0: one per core)
-//! record = ["floor_stress_max", "floor_stress_mean"]
-//! metric = "floor_stress_max"   # the output whose peak the report plots
-//!
-//! [parameters]                  # base configuration, applied before initialization
-//! target_triangles = 2000
-//!
-//! [inputs.press_force]          # an input over time, piecewise linear
-//! time = [0.0, 0.5, 1.0]
-//! value = [0.0, 0.4, 0.4]
-//!
-//! [[sweep]]                     # blocks of cases; the plan is their concatenation
-//! design = "list"               # list: the value lists are zipped
-//! values = { configuration = ["normal", "narrow", "wide"] }
-//!
-//! [[sweep]]
-//! design = "latin-hypercube"    # or "grid" (each range then needs `levels`)
-//! samples = 16
-//! seed = 1
-//! ranges = { "anatomy.outlet" = { min = 95.0, max = 135.0 }, wall_E = { min = 0.01, max = 0.1, log = true } }
-//! ```
+//! Experiment files (TOML): the scene, its base configuration, the parameters to vary, the
+//! inputs over time, the outputs to record, the backend and the parallelism. The format,
+//! key by key, is documented in `docs/reference/experiment-files.md`; the shipped
+//! experiments (`experiments/*.toml`) are examples of it and are compiled into the harness
+//! ([`SHIPPED`]). [`Experiment::parse`] checks everything it can before any case runs —
+//! names against the scene's variable table, values against their ranges, the input
+//! tables, the backend — and names the bad key in its error.
 //!
 //! Inputs follow the simulation loop's rule ([`super::simulate()`]): sampled at the start of
 //! each communication step and held over it, as FMI importers do.
@@ -51,11 +25,18 @@ use super::backend::BackendKind;
 use super::design::{self, Block, Case};
 use super::simulate::{check_times, InputTable, Schedule, Value};
 
-/// The shipped experiments and data, in the repository this harness was built from.
-pub fn shipped_dir() -> PathBuf {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../experiments");
-    dir.canonicalize().unwrap_or(dir)
-}
+/// The shipped experiments by name (`experiments/<name>.toml`), compiled in so that a copied
+/// binary runs them without the source tree.
+pub const SHIPPED: [(&str, &str); 2] = [
+    (
+        "pelvis_sweep",
+        include_str!("../../../experiments/pelvis_sweep.toml"),
+    ),
+    (
+        "cutblock_sweep",
+        include_str!("../../../experiments/cutblock_sweep.toml"),
+    ),
+];
 
 /// The file as written, before checking.
 #[derive(Debug, Clone, Deserialize)]
@@ -109,6 +90,29 @@ pub struct Experiment {
 }
 
 impl Experiment {
+    /// A shipped experiment by name ([`SHIPPED`]).
+    pub fn shipped(name: &str) -> Result<Self> {
+        let (_, text) = SHIPPED.iter().find(|(n, _)| *n == name).with_context(|| {
+            let names: Vec<&str> = SHIPPED.iter().map(|(n, _)| *n).collect();
+            format!(
+                "no experiment file `{name}` and no shipped experiment of that name ({})",
+                names.join(", ")
+            )
+        })?;
+        Self::parse(text, Path::new(".")).with_context(|| format!("shipped experiment {name}"))
+    }
+
+    /// The experiment `arg` names: a file if there is one, otherwise a shipped experiment
+    /// (a name without `/` or `.toml`).
+    pub fn open(arg: &Path) -> Result<Self> {
+        let text = arg.to_string_lossy();
+        if arg.is_file() || text.contains('/') || text.ends_with(".toml") {
+            Self::load(arg)
+        } else {
+            Self::shipped(&text)
+        }
+    }
+
     /// Reads and checks an experiment file; relative paths in it are relative to its folder.
     pub fn load(path: &Path) -> Result<Self> {
         let text = std::fs::read_to_string(path)

@@ -14,15 +14,28 @@ pub use variables::{Causality, Start, Values, Variability, Variable, VariableKin
 /// The scenes by name (the FMI model identifiers): `abdomen` and `cutblock`.
 pub const SCENES: [&str; 2] = ["abdomen", "cutblock"];
 
+/// The one-line description of a scene (the FMUs' `description`), by name.
+pub fn description(name: &str) -> Result<&'static str, SceneError> {
+    match name {
+        "abdomen" => Ok(abdomen::DESCRIPTION),
+        "cutblock" => Ok(cutblock::DESCRIPTION),
+        _ => Err(unknown(name)),
+    }
+}
+
+fn unknown(name: &str) -> SceneError {
+    SceneError::Config(format!(
+        "unknown scene `{name}` (known: {})",
+        SCENES.join(", ")
+    ))
+}
+
 /// A new scene with default parameters, by name.
 pub fn create(name: &str) -> Result<Box<dyn Scene>, SceneError> {
     match name {
         "abdomen" => Ok(Box::new(abdomen::Abdomen::new())),
         "cutblock" => Ok(Box::new(cutblock::CutBlock::new())),
-        _ => Err(SceneError::Config(format!(
-            "unknown scene `{name}` (known: {})",
-            SCENES.join(", ")
-        ))),
+        _ => Err(unknown(name)),
     }
 }
 
@@ -77,10 +90,6 @@ pub trait Scene: Send {
     fn take_warnings(&mut self) -> Vec<String> {
         Vec::new()
     }
-
-    /// Tells the scene where its resources (shipped configuration files) are; scenes that
-    /// read none ignore it.
-    fn set_resource_dir(&mut self, _dir: &std::path::Path) {}
 
     /// The parameters outside the variable table from which this scene can generate its
     /// configuration file; none by default.

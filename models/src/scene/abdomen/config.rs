@@ -13,7 +13,7 @@
 //! or `[anatomy]` with any of `height`, `depth`, `dome`, `lordosis`, `outlet`, `pelvic_tilt`,
 //! `floor_sag`, `symphysis`, `wall_bulge` (see [`Anatomy`]).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
@@ -23,6 +23,32 @@ use crate::scene::SceneError;
 
 /// Prefix of the anatomy parameters that generate a configuration: `anatomy.outlet`, ….
 pub const ANATOMY: &str = "anatomy.";
+
+/// The shipped configurations by name (`experiments/pelvis/*.toml`, written by `cargo run -p
+/// models --example pelvis_configs`), compiled into the library so that a copied binary or
+/// FMU finds them without the source tree.
+pub const SHIPPED: [(&str, &str); 5] = [
+    (
+        "normal",
+        include_str!("../../../../experiments/pelvis/normal.toml"),
+    ),
+    (
+        "narrow",
+        include_str!("../../../../experiments/pelvis/narrow.toml"),
+    ),
+    (
+        "wide",
+        include_str!("../../../../experiments/pelvis/wide.toml"),
+    ),
+    (
+        "lordotic",
+        include_str!("../../../../experiments/pelvis/lordotic.toml"),
+    ),
+    (
+        "tilted",
+        include_str!("../../../../experiments/pelvis/tilted.toml"),
+    ),
+];
 
 /// A configuration file's content.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -68,24 +94,26 @@ impl PelvisConfig {
     }
 
     /// Resolves the `configuration` parameter: empty → built-in; a value containing a path
-    /// separator or ending in `.toml` → that file; otherwise `<resources>/<value>.toml`.
-    pub fn resolve(value: &str, resources: &Path) -> Result<Self, SceneError> {
+    /// separator or ending in `.toml` → that file; otherwise a shipped name ([`SHIPPED`]).
+    pub fn resolve(value: &str) -> Result<Self, SceneError> {
         if value.is_empty() {
             return Ok(Self::builtin());
         }
-        let path = if value.contains('/') || value.contains('\\') || value.ends_with(".toml") {
-            PathBuf::from(value)
-        } else {
-            resources.join(format!("{value}.toml"))
-        };
-        if !path.is_file() {
-            return Err(SceneError::Config(format!(
-                "configuration `{value}`: no file {} (shipped configurations live in {})",
-                path.display(),
-                resources.display()
-            )));
+        if value.contains('/') || value.contains('\\') || value.ends_with(".toml") {
+            return Self::load(Path::new(value));
         }
-        Self::load(&path)
+        let (_, text) = SHIPPED
+            .iter()
+            .find(|(name, _)| *name == value)
+            .ok_or_else(|| {
+                let names: Vec<&str> = SHIPPED.iter().map(|(name, _)| *name).collect();
+                SceneError::Config(format!(
+                    "configuration `{value}` is no shipped configuration ({}) and no file path \
+                 (a path contains `/` or ends in `.toml`)",
+                    names.join(", ")
+                ))
+            })?;
+        Self::parse(text, &format!("shipped configuration `{value}`"))
     }
 
     /// A configuration generated from anatomy fields (`anatomy.<field>` = value) over the
@@ -132,6 +160,28 @@ impl PelvisConfig {
 mod tests {
     use super::*;
 
+    /// The compiled-in copies are the files in `experiments/pelvis` and parse.
+    #[test]
+    fn the_shipped_configurations_are_the_repository_files() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../experiments/pelvis");
+        let mut files: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        files.sort();
+        let mut names: Vec<String> = SHIPPED.iter().map(|(n, _)| format!("{n}.toml")).collect();
+        names.sort();
+        assert_eq!(files, names);
+        for (name, text) in SHIPPED {
+            assert_eq!(
+                std::fs::read_to_string(dir.join(format!("{name}.toml"))).unwrap(),
+                text
+            );
+            let c = PelvisConfig::resolve(name).unwrap();
+            assert_eq!(c.name, name);
+        }
+    }
+
     #[test]
     fn parse_errors_name_the_key() {
         let e = PelvisConfig::parse("[anatomy]\noutlett = 3.0\n", "x.toml")
@@ -144,9 +194,16 @@ mod tests {
         assert!(e.contains("exactly one"), "{e}");
         let c = PelvisConfig::parse("[anatomy]\noutlet = 100.0\n", "z.toml").unwrap();
         assert_eq!(c.anatomy.unwrap().outlet, 100.0);
-        let e = PelvisConfig::resolve("nonexistent", Path::new("/nowhere"))
+        let e = PelvisConfig::resolve("nonexistent")
             .unwrap_err()
             .to_string();
-        assert!(e.contains("nonexistent"), "{e}");
+        assert!(
+            e.contains("`nonexistent` is no shipped") && e.contains("tilted"),
+            "{e}"
+        );
+        let e = PelvisConfig::resolve("/nowhere/x.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("/nowhere/x.toml"), "{e}");
     }
 }

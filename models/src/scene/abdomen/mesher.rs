@@ -246,7 +246,7 @@ mod tests {
             m.angle_histogram
         );
         assert!((4500..7500).contains(&n), "{n}");
-        // The refinement's angle limit is 25°; the README quotes the measured 25.5°.
+        // The refinement's angle limit is 25°; the verification section prints the measured one.
         assert!(m.min_angle >= ANGLE_LIMIT_DEG, "{}", m.min_angle);
         assert!((120..260).contains(&m.mesh.lines().len()));
         for set in [

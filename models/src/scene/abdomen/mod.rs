@@ -54,8 +54,6 @@ mod model;
 mod outputs;
 mod variables;
 
-use std::path::PathBuf;
-
 use config::{PelvisConfig, ANATOMY};
 use discretization::{Element, FieldView};
 use mesher::Meshed;
@@ -73,6 +71,12 @@ use crate::budget;
 use crate::element::tri6::Formulation;
 use crate::solve::{IntegratorKind, ModalBasis, Structure};
 
+/// What the scene is, in one line (the FMUs' `description`).
+pub const DESCRIPTION: &str = "2D midsagittal finite-element model of the abdominal cavity \
+(6- or 3-node triangles with line-element membranes; linear or finite strain; full or modal \
+order): pelvis/spine configuration, per-tissue stiffness, pressing force on the diaphragm, \
+pelvic-floor stress (seed 003 §5.4)";
+
 /// Most substeps one communication step may take: a step that would need more is refused
 /// (it names `max_step` and h) instead of running for hours.
 pub const MAX_SUBSTEPS: f64 = 100_000.0;
@@ -81,7 +85,6 @@ pub const MAX_SUBSTEPS: f64 = 100_000.0;
 #[derive(Debug)]
 pub struct Abdomen {
     values: Values,
-    resources: PathBuf,
     model: Option<Model>,
     /// The outputs after the last step, once requested; the cavity-wide ones are NaN
     /// until one of them is requested.
@@ -100,16 +103,10 @@ impl Default for Abdomen {
 }
 
 impl Abdomen {
-    /// A scene with the built-in defaults. Shipped configurations are looked up in the
-    /// repository's `experiments/pelvis` until `Scene::set_resource_dir` points to a resources
-    /// folder (then `<resources>/pelvis`).
+    /// A scene with the built-in defaults.
     pub fn new() -> Self {
         Self {
             values: Values::new(table()),
-            resources: PathBuf::from(concat!(
-                env!("CARGO_MANIFEST_DIR"),
-                "/../experiments/pelvis"
-            )),
             model: None,
             outputs: None,
             stiffness_changed: false,
@@ -219,7 +216,7 @@ impl Abdomen {
     /// A model built for the current values, at rest at `start_time` under the pressing
     /// force there.
     fn started(&self, start_time: f64) -> Result<Model, SceneError> {
-        let mut model = Model::build(&self.values, &self.resources)?;
+        let mut model = Model::build(&self.values)?;
         let press = self.pressing();
         model.start(start_time, self.values.real(MAX_STEP), |t| press.at(t))?;
         Ok(model)
@@ -317,10 +314,6 @@ impl Press {
 impl Scene for Abdomen {
     fn variables(&self) -> &[Variable] {
         self.values.table()
-    }
-
-    fn set_resource_dir(&mut self, dir: &std::path::Path) {
-        self.resources = dir.join("pelvis");
     }
 
     fn generator_parameters(&self) -> Vec<GeneratorParameter> {

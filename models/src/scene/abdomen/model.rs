@@ -4,8 +4,6 @@
 //! plan — and for `model_order = "modal"` the reduced system ([`Modal`]) the integrator
 //! steps instead of the full one.
 
-use std::path::Path;
-
 use super::config::PelvisConfig;
 use super::discretization::{self, Choice, Discretization, FieldView, Recovery};
 use super::mesher;
@@ -156,10 +154,9 @@ pub fn wall_error(value: &str) -> SceneError {
 }
 
 impl Model {
-    /// Builds the model for the current parameter values; shipped configurations are looked
-    /// up in `resources`.
-    pub fn build(values: &Values, resources: &Path) -> Result<Self, SceneError> {
-        let config = PelvisConfig::resolve(values.string(CONFIGURATION)?, resources)?;
+    /// Builds the model for the current parameter values.
+    pub fn build(values: &Values) -> Result<Self, SceneError> {
+        let config = PelvisConfig::resolve(values.string(CONFIGURATION)?)?;
         let choice = Choice::parse(
             values.string(ELEMENT)?,
             values.string(FORMULATION)?,

@@ -34,6 +34,11 @@ use crate::element::{Elastic, Law, Material};
 use crate::solve::newton::Settings;
 use std::time::Duration;
 
+/// What the scene is, in one line (the FMUs' `description`).
+pub const DESCRIPTION: &str = "3D tetrahedral silicone block (tet4 or tet10; linear, \
+neo-Hookean or St. Venant-Kirchhoff) with a scalpel incision, pulled and pressed, cut flanks \
+in contact; reaction force, cut opening, bottom lift and laser profiles (seed 002)";
+
 /// Laser-profile stations: y = 0, 0.5, …, 90 mm in lab coordinates (the default block
 /// pulled by up to 10 mm).
 pub const PROFILE_STATIONS: usize = 181;
@@ -129,6 +134,20 @@ impl CutBlock {
     /// for plots and files.
     pub fn field(&self) -> Option<(&Solid, &[f64])> {
         self.topology.as_ref().map(|t| (&t.solid, t.u.as_slice()))
+    }
+
+    /// The top-surface heights (mm) along the scan line x = `line` at the lab-frame stations
+    /// `ys` (NaN where there is no surface), read as the `profile_x*` outputs read theirs —
+    /// for scanners at other lines than x = 25, 50, 75 mm.
+    pub fn profile(&self, line: f64, ys: &[f64]) -> Result<Vec<f64>, SceneError> {
+        let t = self
+            .topology
+            .as_ref()
+            .ok_or_else(|| SceneError::NotInitialized {
+                name: "profile".into(),
+            })?;
+        Ok(t.top
+            .profile(t.solid.nodes(), &t.u, line, ys.iter().copied()))
     }
 
     fn material(&self) -> Result<Material, SceneError> {
