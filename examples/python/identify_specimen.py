@@ -48,8 +48,11 @@ def main():
     r = identify(args.harness, args.data, args.set_name, args.material, args.element,
                  args.nu, args.out)
     e, nu = r["E_MPa"], r["nu"]
-    lo, hi = e["interval95"]
-    print(f"E = {e['value']!r} MPa (95 %: {lo:.5f} … {hi:.5f})")
+    if e["interval95"]:
+        lo, hi = e["interval95"]
+        print(f"E = {e['value']!r} MPa (95 %: {lo:.5f} … {hi:.5f})")
+    else:
+        print(f"E = {e['value']!r} MPa (no interval: ν is at its bound)")
     if nu["given"]:
         print(f"nu = {nu['value']!r} (given)")
     elif nu["at_bound"]:
@@ -58,7 +61,7 @@ def main():
     else:
         lo, hi = nu["interval95"]
         print(f"nu = {nu['value']!r} (95 %: {lo:.4f} … {hi:.4f}), "
-              f"correlation with E {r['correlation']:+.2f}")
+              f"correlation with E {r['correlation']}")
     f = r["forces"]
     print(f"force RMS residual = {f['rms_N']!r} N ({f['rms_over_noise']:.2f} x noise)")
     if r["profiles"]["lines"]:

@@ -1,6 +1,7 @@
 //! Writes `<model>-fmi2.fmu` and `<model>-fmi3.fmu` archives: model description, the shared
 //! library under `binaries/<platform>/<model>.so`, and `resources/` with the model's
-//! defaults and (for the abdomen) the shipped pelvis configurations. Each archive is written
+//! defaults and (for the abdomen) copies of the shipped pelvis configurations the library
+//! carries, for users to read and start their own from. Each archive is written
 //! to a temporary file and renamed into place, so a failed run leaves no half-written FMU.
 
 use std::io::Write;
@@ -45,7 +46,6 @@ pub fn write(
     model: &Model,
     version: Version,
     library: &Path,
-    pelvis: &Path,
     out_dir: &Path,
 ) -> Result<PathBuf, String> {
     let err = |what: &str, e: &dyn std::fmt::Display| format!("{what}: {e}");
@@ -73,21 +73,8 @@ pub fn write(
     )?;
     add("resources/defaults.toml", defaults(model).as_bytes())?;
     if model.identifier == "abdomen" {
-        let mut entries: Vec<_> = std::fs::read_dir(pelvis)
-            .map_err(|e| err(&format!("reading {}", pelvis.display()), &e))?
-            .filter_map(Result::ok)
-            .map(|e| e.path())
-            .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-            .collect();
-        entries.sort();
-        for p in entries {
-            let name = p
-                .file_name()
-                .and_then(|n| n.to_str())
-                .unwrap_or_default()
-                .to_string();
-            let bytes = std::fs::read(&p).map_err(|e| err(&name, &e))?;
-            add(&format!("resources/pelvis/{name}"), &bytes)?;
+        for (name, text) in models::scene::abdomen::config::SHIPPED {
+            add(&format!("resources/pelvis/{name}.toml"), text.as_bytes())?;
         }
     }
     zip.finish().map_err(|e| err("finishing the archive", &e))?;
@@ -96,11 +83,11 @@ pub fn write(
 }
 
 /// Writes every model in both versions.
-pub fn write_all(library: &Path, pelvis: &Path, out_dir: &Path) -> Result<Vec<PathBuf>, String> {
+pub fn write_all(library: &Path, out_dir: &Path) -> Result<Vec<PathBuf>, String> {
     let mut written = Vec::new();
     for model in &MODELS {
         for version in [Version::Fmi2, Version::Fmi3] {
-            written.push(write(model, version, library, pelvis, out_dir)?);
+            written.push(write(model, version, library, out_dir)?);
         }
     }
     Ok(written)

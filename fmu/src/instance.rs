@@ -143,9 +143,10 @@ pub struct Instance {
 }
 
 impl Instance {
-    /// Creates the scene named by `token` (FMI 2 GUID / FMI 3 instantiation token), with
-    /// resources at `location` (any of the forms [`crate::uri::resource_dir`] accepts). On
-    /// failure the reason goes to `log` and the result is `None`.
+    /// Creates the scene named by `token` (FMI 2 GUID / FMI 3 instantiation token); a
+    /// resource `location` must be one of the forms [`crate::uri::resource_dir`] accepts
+    /// (the scenes carry their data and read none). On failure the reason goes to `log` and
+    /// the result is `None`.
     pub fn create(
         version: Version,
         token: Option<&str>,

@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use models::scene::{Causality, Start, Variability, Variable, VariableKind};
+use models::scene::{Causality, Start, Variable, VariableKind};
 
 use crate::instance::{fmi2_scalars, time_vr};
 use crate::model::Model;
@@ -97,22 +97,6 @@ fn real_attributes(v: &Variable, unit: UnitAttribute) -> String {
     a
 }
 
-fn causality(v: &Variable) -> &'static str {
-    match v.causality {
-        Causality::Parameter => "parameter",
-        Causality::Input => "input",
-        Causality::Output => "output",
-    }
-}
-
-fn variability(v: &Variable) -> &'static str {
-    match v.variability {
-        Variability::Fixed => "fixed",
-        Variability::Tunable => "tunable",
-        Variability::Continuous => "continuous",
-    }
-}
-
 /// FMI 2 `initial` attribute (none for inputs).
 fn initial(v: &Variable) -> &'static str {
     match v.causality {
@@ -165,8 +149,8 @@ pub fn fmi2(model: &Model) -> String {
             s,
             r#"    <ScalarVariable name="{}" valueReference="{i}" causality="{}" variability="{}"{} description="{}">"#,
             esc(&sc.name),
-            causality(v),
-            variability(v),
+            v.causality.name(),
+            v.variability.name(),
             initial(v),
             esc(&v.description)
         );
@@ -227,8 +211,8 @@ pub fn fmi3(model: &Model) -> String {
             r#"name="{}" valueReference="{}" causality="{}" variability="{}"{} description="{}""#,
             esc(&v.name),
             v.vr,
-            causality(v),
-            variability(v),
+            v.causality.name(),
+            v.variability.name(),
             initial(v),
             esc(&v.description)
         );

@@ -258,6 +258,21 @@ fn describe_prints_the_variables_and_refuses_an_unknown_scene() {
 /// binary holds no path of the source tree it was built from.
 #[test]
 fn the_binary_runs_from_anywhere() {
+    /// Runs the copied binary in `dir`. Just after the copy, a process forked by a test
+    /// running alongside may still hold the file open for writing until it execs, and Linux
+    /// then refuses to run it (ETXTBSY): wait and retry.
+    fn run_copy(copy: &Path, args: &[&str], dir: &Path) -> std::process::Output {
+        for _ in 0..50 {
+            match Command::new(copy).args(args).current_dir(dir).output() {
+                Err(e) if e.raw_os_error() == Some(26) => {
+                    std::thread::sleep(std::time::Duration::from_millis(100));
+                }
+                other => return other.unwrap(),
+            }
+        }
+        panic!("{} stayed busy", copy.display());
+    }
+
     let tmp = tempfile::tempdir().unwrap();
     let copy = tmp.path().join("harness");
     std::fs::copy(env!("CARGO_BIN_EXE_harness"), &copy).unwrap();
@@ -275,11 +290,7 @@ fn the_binary_runs_from_anywhere() {
         "--record",
         "floor_stress_mean,apex_uy",
     ];
-    let moved = Command::new(&copy)
-        .args(args)
-        .current_dir(tmp.path())
-        .output()
-        .unwrap();
+    let moved = run_copy(&copy, &args, tmp.path());
     assert!(
         moved.status.success(),
         "{}",
@@ -288,11 +299,11 @@ fn the_binary_runs_from_anywhere() {
     let here = harness(&args);
     assert_eq!(moved.stdout, here.stdout);
     assert_eq!(String::from_utf8_lossy(&moved.stdout).lines().count(), 4);
-    let plan = Command::new(&copy)
-        .args(["sweep", "cutblock_sweep", "--plan-only", "--out", "plan"])
-        .current_dir(tmp.path())
-        .output()
-        .unwrap();
+    let plan = run_copy(
+        &copy,
+        &["sweep", "cutblock_sweep", "--plan-only", "--out", "plan"],
+        tmp.path(),
+    );
     assert!(
         plan.status.success(),
         "{}",
@@ -331,9 +342,6 @@ fn the_quick_report_writes_every_section() {
     ] {
         assert!(report.contains(heading), "{heading} missing");
     }
-    for seed in ["2.096", "configuration narrow", "wall E = 225 kPa"] {
-        assert!(report.contains(seed), "the seed comparison lacks {seed}");
-    }
     assert_files(
         &out,
         &[
@@ -351,4 +359,10 @@ fn the_quick_report_writes_every_section() {
         ],
     );
     assert!(report.contains("Quick report"));
+    // The quick identification is the model the data were made with: at the noise level.
+    let fit: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("identify_C_neo_hookean_tet10.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(fit["at_noise_level"].as_bool(), Some(true), "{fit}");
 }

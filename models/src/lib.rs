@@ -3,16 +3,22 @@
 //! throughout: mm, N, s, t (tonne); stress in MPa.
 //!
 //! ```text
-//! mesh/      2D (tri3 + line2) and tet meshes, generators, cuts by node duplication
-//! element/   tri3, line2, tet4, the linear material: small fixed-size matrices
-//! assembly/  sparse pattern once + scatter, Dirichlet by elimination, loads
-//! solve/     Cholesky (faer), statics, the dynamic structure, integrators
-//!            (houbolt, newmark, central_difference, rk4), spectrum
+//! mesh/      2D meshes (tri3 + line2), quadratic ones (tri6 + line3, tet10) from linear
+//!            ones, tet meshes, generators, cuts by node duplication
+//! element/   tri3, tri6 (displacement and mixed P2/P0), line2, line3, tet4, tet10,
+//!            quadrature, material laws (linear, neo-Hookean, St. Venant–Kirchhoff) and
+//!            the total Lagrangian kernel: small fixed-size matrices
+//! assembly/  sparse pattern once + scatter, Dirichlet by elimination, loads, plane and
+//!            solid bodies (linear and finite strain)
+//! solve/     Cholesky (faer), statics, Newton, the dynamic structure, integrators
+//!            (houbolt, newmark, central_difference, rk4), spectrum, Lanczos, modal
+//!            reduction
 //! stress     element and nodal stresses, von Mises, axial stress
 //! contact/   the self-contact search of seed 001 (BV tree, curvature, pairs)
 //! scene/     the scene interface (variable table, set/get, do_step) and the
 //!            abdomen and cutblock scenes the FMUs and the harness drive
-//! verify/    analytical reference problems the tests and the harness check against
+//! verify/    analytical reference problems and Richardson extrapolation, which the
+//!            tests and the harness check against
 //! budget     the memory limit of a build: large allocations are claimed first
 //! error      ModelError: what went wrong, with the value and the variable
 //! ```

@@ -112,7 +112,7 @@ fn slow_pressing_matches_the_static_solution() {
         "quasi-static: |u_dyn - u_static| / |u_static| = {:.3e}",
         diff / norm
     );
-    // Measured 1.18e-5 on the former tri3 defaults, 1.20e-5 on tri6 (the README quotes
+    // Measured 1.18e-5 on the former tri3 defaults, 1.20e-5 on tri6 (docs/verification.md quotes
     // 1.2e-5): the bound sits just above it.
     assert!(diff / norm < 1.5e-5, "{}", diff / norm);
 }

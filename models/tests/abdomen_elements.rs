@@ -126,7 +126,7 @@ fn the_mixed_element_does_not_lock_where_linear_triangles_do() {
 /// Finite strain departs from small strain in proportion to the load (the kinematics'
 /// first neglected term), below 1e-3 relative at 0.1 % of the default load, in the static
 /// solution and in Houbolt steps. (At the default load the cavity moves about 90 mm: far
-/// from small strain, see the README.)
+/// from small strain, see docs/theory/abdomen.md.)
 #[test]
 fn finite_strain_departs_from_small_strain_in_proportion_to_the_load() {
     let tri6 = |kinematics: &str, amplitude: f64| {

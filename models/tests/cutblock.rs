@@ -370,7 +370,7 @@ fn closing_flanks_are_kept_apart_by_contact() {
     // Compression: the reaction is negative; contact makes the block stiffer.
     assert!(fw < fo && fo < 0.0, "{fw} {fo}");
     assert!(points > 0.0);
-    // The penetration left by the penalty (measured 0.00024 mm, as the README says) is four
+    // The penetration left by the penalty (measured 0.00024 mm, as docs/theory/cutblock.md says) is four
     // orders of magnitude below what the flanks overlap without contact (1.93 mm).
     assert!(pw < 3e-4, "{pw}");
     assert!((po - 1.93).abs() < 0.01, "{po}");

@@ -51,8 +51,9 @@ def test_compare_pelvis_prints_the_in_process_peaks(tmp_path):
         expect = simulate("abdomen", 0.1, 0.01,
                           {"configuration": name, "target_triangles": 300.0},
                           ["floor_stress_mean", "floor_stress_max"])
-        assert number(line, "floor_stress_mean") == expect[1:, 1].max()
-        assert number(line, "floor_stress_max") == expect[1:, 2].max()
+        # Peaks over every output row, t = 0 included, as the example takes them.
+        assert number(line, "floor_stress_mean") == expect[:, 1].max()
+        assert number(line, "floor_stress_max") == expect[:, 2].max()
 
 
 def test_cut_and_pull_prints_the_in_process_reaction(tmp_path):

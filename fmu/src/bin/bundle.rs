@@ -15,12 +15,10 @@ fn main() -> ExitCode {
         std::env::consts::DLL_PREFIX,
         std::env::consts::DLL_SUFFIX
     ));
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
-    let pelvis = root.join("experiments/pelvis");
     let out = dir
         .parent()
         .map_or_else(|| PathBuf::from("target/fmu"), |target| target.join("fmu"));
-    match fmu::bundle::write_all(&library, &pelvis, &out) {
+    match fmu::bundle::write_all(&library, &out) {
         Ok(paths) => {
             for p in paths {
                 println!("wrote {}", p.display());

@@ -289,7 +289,11 @@ fn fit_section(report: &mut Report, d: &Done, json: &str) -> Result<()> {
 fn results(d: &Done) -> serde_json::Value {
     let (f, m) = (&d.fit, &d.data);
     let noise = m.specimen.noise;
-    let interval = |value: f64, sigma: f64| [value - 1.96 * sigma, value + 1.96 * sigma];
+    // No interval where ν ran to its bound: those values are not material values.
+    let interval = |value: f64, sigma: f64| {
+        (!f.at_bound).then_some([value - 1.96 * sigma, value + 1.96 * sigma])
+    };
+    let scanned = |x: f64| m.has_profiles().then_some(x);
     serde_json::json!({
         "set": d.job.set,
         "data": d.job.data.to_string(),
@@ -301,9 +305,9 @@ fn results(d: &Done) -> serde_json::Value {
         },
         "nu": {
             "value": f.nu,
-            "given": f.sigma_nu.is_none(),
+            "given": d.job.nu.is_some(),
             "sigma": f.sigma_nu,
-            "interval95": f.sigma_nu.map(|s| interval(f.nu, s)),
+            "interval95": f.sigma_nu.and_then(|s| interval(f.nu, s)),
             "at_bound": f.at_bound,
             "search_interval": [NU_RANGE.0, NU_RANGE.1],
         },
@@ -318,9 +322,9 @@ fn results(d: &Done) -> serde_json::Value {
         },
         "profiles": {
             "pull_mm": m.profile_pull(),
-            "rms_mm": f.profile_rms,
+            "rms_mm": scanned(f.profile_rms),
             "noise_mm": noise.profile,
-            "rms_over_noise": f.profile_rms / noise.profile,
+            "rms_over_noise": scanned(f.profile_rms / noise.profile),
             "limit_rms_over_noise": PROFILE_LEVEL,
             "lines": m.profiles.iter().zip(&f.lines).map(|(s, l)| serde_json::json!({
                 "x_mm": s.x,

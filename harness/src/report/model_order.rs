@@ -69,10 +69,7 @@ pub fn section(report: &mut Report, depth: Depth) -> Result<()> {
         .iter()
         .filter_map(|(id, x)| pm.get(id).map(|y| (x - y).abs() / x.abs()))
         .fold(0.0f64, f64::max);
-    let jobs = match e.jobs {
-        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        n => n,
-    };
+    let jobs = e.threads();
     report.text(&format!(
         "Both runs from scratch on this machine ({jobs} cases at a time). The modal order \
          uses the default 80 load-dependent Ritz vectors; its basis is rebuilt for every case."

@@ -49,22 +49,6 @@ fn in_group(v: &Variable, causality: Causality, variability: Option<Variability>
     v.causality == causality && variability.is_none_or(|w| v.variability == w)
 }
 
-fn causality(v: &Variable) -> &'static str {
-    match v.causality {
-        Causality::Parameter => "parameter",
-        Causality::Input => "input",
-        Causality::Output => "output",
-    }
-}
-
-fn variability(v: &Variable) -> &'static str {
-    match v.variability {
-        Variability::Fixed => "fixed",
-        Variability::Tunable => "tunable",
-        Variability::Continuous => "continuous",
-    }
-}
-
 /// The FMI 2 type (FMI 3: Float64 for Real), with the array length if not scalar.
 fn kind(v: &Variable) -> String {
     let base = match v.kind {
@@ -141,8 +125,8 @@ fn markdown(
                 s,
                 "| `{}` | {} | {} | {} | {} | {} | {} | {} |",
                 v.name,
-                causality(v),
-                variability(v),
+                v.causality.name(),
+                v.variability.name(),
                 kind(v),
                 unit(v.unit),
                 start(v),
@@ -168,7 +152,7 @@ fn markdown(
                 unit(g.unit),
                 number(g.min),
                 number(g.max),
-                g.description
+                g.description.replace('|', "\\|")
             );
         }
     }
@@ -184,8 +168,12 @@ fn text(
     let mut s = format!("{name}: {description}.\n");
     let width = table.iter().map(|v| v.name.len() + 5).max().unwrap_or(0);
     for (title, c, w) in GROUPS {
+        let rows: Vec<&Variable> = table.iter().filter(|v| in_group(v, c, w)).collect();
+        if rows.is_empty() {
+            continue;
+        }
         let _ = write!(s, "\n{title}:\n");
-        for v in table.iter().filter(|v| in_group(v, c, w)) {
+        for v in rows {
             let head = format!(
                 "{} {} {} {}",
                 kind(v),

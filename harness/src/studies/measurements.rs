@@ -72,10 +72,9 @@ impl Source {
     /// A file's text, `None` if there is no such file.
     fn read(&self, file: &str) -> Result<Option<String>> {
         match self {
-            Self::Shipped => Ok(SHIPPED
-                .iter()
-                .find(|(name, _)| *name == file)
-                .map(|(_, text)| text.to_string())),
+            Self::Shipped => Ok(models::scene::shipped(&SHIPPED, file)
+                .ok()
+                .map(str::to_string)),
             Self::Folder(dir) => {
                 let path = dir.join(file);
                 if !path.is_file() {
@@ -214,9 +213,15 @@ pub struct Measurements {
     pub profiles: Vec<Scan>,
 }
 
+/// A row of a two-column CSV: its line in the file and its values.
+struct Row {
+    line: u64,
+    values: (f64, f64),
+}
+
 /// The rows of a two-column CSV read by column name (any order, extra columns refused):
 /// (`columns[0]`, `columns[1]`) per row, each a finite number.
-fn read_pairs(text: &str, origin: &str, columns: [&str; 2]) -> Result<Vec<(f64, f64)>> {
+fn read_pairs(text: &str, origin: &str, columns: [&str; 2]) -> Result<Vec<Row>> {
     let mut reader = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .from_reader(text.as_bytes());
@@ -224,6 +229,12 @@ fn read_pairs(text: &str, origin: &str, columns: [&str; 2]) -> Result<Vec<(f64, 
         .headers()
         .with_context(|| format!("{origin}: reading the header"))?
         .clone();
+    ensure!(
+        !header.is_empty(),
+        "{origin} is empty: expected a header `{},{}` and data rows",
+        columns[0],
+        columns[1]
+    );
     let found: Vec<&str> = header.iter().collect();
     let position = |name: &str| found.iter().position(|h| *h == name);
     let (Some(a), Some(b), 2) = (position(columns[0]), position(columns[1]), found.len()) else {
@@ -241,12 +252,11 @@ fn read_pairs(text: &str, origin: &str, columns: [&str; 2]) -> Result<Vec<(f64, 
     };
     let mut out = Vec::new();
     for record in reader.records() {
-        let record = record.with_context(|| format!("{origin}: reading a row"))?;
+        // A row with another number of fields is refused by the reader, with its line.
+        let record = record.with_context(|| origin.to_string())?;
         let line = record.position().map_or(0, |p| p.line());
         let value = |k: usize, name: &str| -> Result<f64> {
-            let cell = record
-                .get(k)
-                .with_context(|| format!("{origin}, line {line}: no value in column `{name}`"))?;
+            let cell = &record[k];
             let x: f64 = cell.parse().map_err(|_| {
                 anyhow::anyhow!("{origin}, line {line}, column `{name}`: `{cell}` is not a number")
             })?;
@@ -256,7 +266,10 @@ fn read_pairs(text: &str, origin: &str, columns: [&str; 2]) -> Result<Vec<(f64, 
             );
             Ok(x)
         };
-        out.push((value(a, columns[0])?, value(b, columns[1])?));
+        out.push(Row {
+            line,
+            values: (value(a, columns[0])?, value(b, columns[1])?),
+        });
     }
     ensure!(!out.is_empty(), "{origin} has no data rows");
     Ok(out)
@@ -275,37 +288,50 @@ impl Measurements {
             &origin,
             ["displacement_mm", "force_N"],
         )?;
-        for (k, w) in fd.windows(2).enumerate() {
+        for w in fd.windows(2) {
+            let (before, after) = (w[0].values.0, w[1].values.0);
             ensure!(
-                w[1].0 > w[0].0,
-                "{origin}: the displacements must increase (row {}: {} after {})",
-                k + 2,
-                w[1].0,
-                w[0].0
+                after > before,
+                "{origin}, line {}: the displacements must increase ({after} after {before})",
+                w[1].line
             );
         }
+        let (first, last) = (fd[0].values.0, fd[fd.len() - 1].values.0);
         ensure!(
-            fd[0].0 >= 0.0,
-            "{origin}: displacement {} is negative (the fit is for pulls)",
-            fd[0].0
+            first >= 0.0,
+            "{origin}, line {}: displacement {first} is negative (the fit is for pulls)",
+            fd[0].line
         );
-        let files: Vec<String> = specimen
-            .scan_lines
-            .iter()
-            .map(|&x| Specimen::profile_file(set, x))
-            .collect();
+        ensure!(
+            last <= specimen.size[1],
+            "{origin}, line {}: a pull of {last} mm is longer than the block ({} mm): is the \
+             column in mm?",
+            fd[fd.len() - 1].line,
+            specimen.size[1]
+        );
+        let mut scans = Vec::new();
+        for &x in &specimen.scan_lines {
+            let file = Specimen::profile_file(set, x);
+            scans.push((x, source.read(&file)?, file));
+        }
         let mut profiles = Vec::new();
-        if files.iter().any(|f| matches!(source.read(f), Ok(Some(_)))) {
-            for (file, &x) in files.iter().zip(&specimen.scan_lines) {
-                let points =
-                    read_pairs(&source.require(file)?, &source.name(file), ["y_mm", "z_mm"])?;
+        if scans.iter().any(|(_, text, _)| text.is_some()) {
+            for (x, text, file) in scans {
+                let text = text.with_context(|| {
+                    format!(
+                        "{}: no such file, while the set has other scans (one per scan line)",
+                        source.name(&file)
+                    )
+                })?;
+                let rows = read_pairs(&text, &source.name(&file), ["y_mm", "z_mm"])?;
+                let points = rows.into_iter().map(|r| r.values).collect();
                 profiles.push(Scan { x, points });
             }
         }
         Ok(Self {
             specimen,
-            displacement: fd.iter().map(|p| p.0).collect(),
-            force: fd.iter().map(|p| p.1).collect(),
+            displacement: fd.iter().map(|r| r.values.0).collect(),
+            force: fd.iter().map(|r| r.values.1).collect(),
             profiles,
         })
     }
@@ -330,17 +356,20 @@ pub fn source(data: Option<&Path>) -> Source {
 mod tests {
     use super::*;
 
-    /// The compiled-in copies are the repository's files, and they load.
+    /// Every data file of the shipped folder is compiled in, and the sets load the same
+    /// from either source.
     #[test]
     fn the_shipped_sets_load_with_their_specimens() {
         let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../experiments/data/cutblock");
-        for (file, text) in SHIPPED {
-            assert_eq!(
-                std::fs::read_to_string(dir.join(file)).unwrap(),
-                text,
-                "{file}"
-            );
-        }
+        let mut files: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|f| f != "README.md")
+            .collect();
+        files.sort();
+        let mut shipped: Vec<&str> = SHIPPED.iter().map(|(f, _)| *f).collect();
+        shipped.sort();
+        assert_eq!(files, shipped);
         for (set, y_cut, depth, force_noise) in
             [("A", 45.0, 8.5, 0.0426), ("C", 50.0, 4.25, 0.0292)]
         {
@@ -397,7 +426,14 @@ mod tests {
         );
         assert!(e.contains("scan_lines[1] = 120"), "{e}");
         let cases = [
-            ("0,0\n2,1\n1,0.5\n", "must increase (row 3: 1 after 2)"),
+            (
+                "0,0\n2,1\n1,0.5\n",
+                "line 4: the displacements must increase (1 after 2)",
+            ),
+            (
+                "0,0\n90,1\n",
+                "line 3: a pull of 90 mm is longer than the block (80 mm)",
+            ),
             (
                 "0,0\n1,NaN\n",
                 "line 3, column `force_N`: NaN is not a finite number",
@@ -407,7 +443,10 @@ mod tests {
                 "line 3, column `displacement_mm`: inf is not a finite number",
             ),
             ("0,0\n1,\n", "line 3, column `force_N`: `` is not a number"),
-            ("0,0\n1\n", "reading a row"),
+            (
+                "0,0\n1\n",
+                "(line: 3, byte: 28): found record with 1 fields",
+            ),
             ("", "has no data rows"),
         ];
         for (rows, expected) in cases {
@@ -420,6 +459,8 @@ mod tests {
                 "{rows:?}: {e}"
             );
         }
+        let e = error(("", ""), &[("force_displacement_A.csv", "")]);
+        assert!(e.contains("force_displacement_A.csv is empty"), "{e}");
         let e = error(
             ("", ""),
             &[("force_displacement_A.csv", "d,force_N\n0,0\n")],
@@ -439,7 +480,10 @@ mod tests {
             ("", ""),
             &[forces, ("profile_A_x25.csv", "y_mm,z_mm\n1,17\n")],
         );
-        assert!(e.contains("profile_A_x50.csv: no such file"), "{e}");
+        assert!(
+            e.contains("profile_A_x50.csv: no such file, while the set has other scans"),
+            "{e}"
+        );
     }
 
     /// Columns are read by name; scan lines anywhere the specimen names them; no scans

@@ -92,11 +92,9 @@ pub struct Experiment {
 impl Experiment {
     /// A shipped experiment by name ([`SHIPPED`]).
     pub fn shipped(name: &str) -> Result<Self> {
-        let (_, text) = SHIPPED.iter().find(|(n, _)| *n == name).with_context(|| {
-            let names: Vec<&str> = SHIPPED.iter().map(|(n, _)| *n).collect();
-            format!(
-                "no experiment file `{name}` and no shipped experiment of that name ({})",
-                names.join(", ")
+        let text = models::scene::shipped(&SHIPPED, name).map_err(|names| {
+            anyhow::anyhow!(
+                "no experiment file `{name}` and no shipped experiment of that name ({names})"
             )
         })?;
         Self::parse(text, Path::new(".")).with_context(|| format!("shipped experiment {name}"))
@@ -106,7 +104,7 @@ impl Experiment {
     /// (a name without `/` or `.toml`).
     pub fn open(arg: &Path) -> Result<Self> {
         let text = arg.to_string_lossy();
-        if arg.is_file() || text.contains('/') || text.ends_with(".toml") {
+        if arg.is_file() || text.contains(['/', '\\']) || text.ends_with(".toml") {
             Self::load(arg)
         } else {
             Self::shipped(&text)
@@ -173,6 +171,15 @@ impl Experiment {
             settings,
             inputs: &self.inputs,
             record: &self.record,
+        }
+    }
+
+    /// The cases run at a time: `jobs`, or for 0 the threads of rayon's global pool (one
+    /// per core, or `harness --jobs`).
+    pub fn threads(&self) -> usize {
+        match self.jobs {
+            0 => rayon::current_num_threads(),
+            n => n,
         }
     }
 

@@ -168,13 +168,8 @@ pub fn run(e: &Experiment, dir: &Path) -> Result<Sweep> {
         .map(|c| c.id)
         .filter(|&id| !case_path(dir, id, "csv").is_file())
         .collect();
-    let threads = if e.jobs == 0 {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    } else {
-        e.jobs
-    };
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
+        .num_threads(e.threads())
         .build()?;
     let bar = progress(pending.len());
     pool.install(|| {

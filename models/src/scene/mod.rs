@@ -14,6 +14,19 @@ pub use variables::{Causality, Start, Values, Variability, Variable, VariableKin
 /// The scenes by name (the FMI model identifiers): `abdomen` and `cutblock`.
 pub const SCENES: [&str; 2] = ["abdomen", "cutblock"];
 
+/// A file compiled in (shipped configurations, experiments, measurement sets): its text by
+/// name from `table`, or the names the table has, comma-separated.
+pub fn shipped(table: &[(&'static str, &'static str)], name: &str) -> Result<&'static str, String> {
+    table
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, text)| *text)
+        .ok_or_else(|| {
+            let names: Vec<&str> = table.iter().map(|(n, _)| *n).collect();
+            names.join(", ")
+        })
+}
+
 /// The one-line description of a scene (the FMUs' `description`), by name.
 pub fn description(name: &str) -> Result<&'static str, SceneError> {
     match name {

@@ -22,6 +22,28 @@ pub enum Variability {
     Continuous,
 }
 
+impl Causality {
+    /// The name FMI gives it (`causality` attribute).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Parameter => "parameter",
+            Self::Input => "input",
+            Self::Output => "output",
+        }
+    }
+}
+
+impl Variability {
+    /// The name FMI gives it (`variability` attribute).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Fixed => "fixed",
+            Self::Tunable => "tunable",
+            Self::Continuous => "continuous",
+        }
+    }
+}
+
 /// Value type.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum VariableKind {

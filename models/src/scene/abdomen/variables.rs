@@ -45,7 +45,7 @@ pub fn table() -> Vec<Variable> {
         Variable::string("integrator", "houbolt", "houbolt, newmark, central_difference or rk4"),
         Variable::parameter("max_step", Fixed, "s", 1e-3, (1e-8, 10.0), "largest internal time step; a communication step is split into equal substeps (at most 100000 per communication step)"),
         memory_limit(),
-        Variable::string("model_order", "full", "`full` (every dof); `modal`: `modes` load-dependent Ritz vectors of the pressing load (a Krylov basis holding its static response; within 1 % of full order at the default settings, docs/verification.md); `eigenmodes`: the lowest `modes` eigenmodes plus the load's static correction; `eigenmodes_truncated`: the eigenmodes alone"),
+        Variable::string("model_order", "full", "`full` (every dof); `modal`: `modes` load-dependent Ritz vectors of the pressing load (a Krylov basis holding its static response; within 1 % of full order at the default settings: docs/verification.md in the tissuefmu sources); `eigenmodes`: the lowest `modes` eigenmodes plus the load's static correction; `eigenmodes_truncated`: the eigenmodes alone"),
         Variable::parameter("modes", Fixed, "1", 80.0, (1.0, 2000.0), "basis vectors of a reduced model order (modal, eigenmodes)"),
     ];
     let defaults = [(0.005, 0.49), (0.2, 4.0), (0.0225, 20.0), (0.1, 8.0)];
