@@ -122,6 +122,29 @@ fn failures_are_recorded_and_resuming_reruns_only_missing_cases() {
     assert_eq!(summary(&out), text, "the refused runs changed nothing");
 }
 
+/// The finished case files of a sweep folder, each with its inode and modification time
+/// (a rewritten file gets a new inode: files are written through a rename).
+fn finished(dir: &Path) -> std::collections::BTreeMap<String, (u64, std::time::SystemTime)> {
+    use std::os::unix::fs::MetadataExt;
+    let Ok(entries) = std::fs::read_dir(dir.join("cases")) else {
+        return Default::default();
+    };
+    entries
+        .map(|e| e.unwrap())
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".csv"))
+        .map(|e| {
+            let m = e.metadata().unwrap();
+            (
+                e.file_name().to_string_lossy().into_owned(),
+                (m.ino(), m.modified().unwrap()),
+            )
+        })
+        .collect()
+}
+
+/// Killed after its first case and run again, a sweep keeps the finished case files as they
+/// are (same inode and time: not recomputed), computes the others, and ends with the results
+/// of an uninterrupted run.
 #[test]
 fn a_killed_sweep_resumes_to_the_same_results() {
     let tmp = tempfile::tempdir().unwrap();
@@ -154,12 +177,29 @@ fn a_killed_sweep_resumes_to_the_same_results() {
     }
     child.kill().unwrap();
     child.wait().unwrap();
+    let before = finished(&out);
+    let all = finished(&clean);
     assert!(
-        !out.join("summary.csv").is_file(),
-        "the sweep should have been killed before its end"
+        before.contains_key("case_0000.csv"),
+        "the first case should have finished before the kill"
+    );
+    assert!(
+        before.len() < all.len() && !out.join("summary.csv").is_file(),
+        "the sweep should have been killed before its end ({} of {} cases)",
+        before.len(),
+        all.len()
     );
     let o = sweep(&exp, &out);
     assert!(o.status.success());
+    let after = finished(&out);
+    for (name, stamp) in &before {
+        assert_eq!(after.get(name), Some(stamp), "{name} was recomputed");
+    }
+    assert_eq!(
+        after.keys().collect::<Vec<_>>(),
+        all.keys().collect::<Vec<_>>(),
+        "the unfinished cases were computed"
+    );
     assert_eq!(summary(&out), summary(&clean));
 }
 
@@ -190,8 +230,12 @@ fn invalid_experiments_fail_before_any_work_naming_the_key() {
     }
 }
 
+/// How close the modal sweep's peaks are to full order (relative): about three times the
+/// largest difference measured on 2026-11-25, 4.7e-4.
+const MODAL_PEAKS: f64 = 1.5e-3;
+
 /// `model_order` in an experiment file: the same small sweep in modal order gives the
-/// full-order peaks within 1 %.
+/// full-order peaks within a few times the difference measured on 2026-11-25.
 #[test]
 fn a_modal_sweep_gives_the_full_order_peaks() {
     use harness::sweep::experiment::Experiment;
@@ -217,10 +261,11 @@ fn a_modal_sweep_gives_the_full_order_peaks() {
     };
     let (full, modal) = (peaks("full"), peaks("modal"));
     assert_eq!(full.len(), 4);
-    for (f, m) in full.iter().zip(&modal) {
-        assert!(
-            (f - m).abs() <= 0.01 * f.abs(),
-            "full {full:?} modal {modal:?}"
-        );
-    }
+    let worst = full
+        .iter()
+        .zip(&modal)
+        .map(|(f, m)| (f - m).abs() / f.abs())
+        .fold(0.0, f64::max);
+    println!("modal against full order, largest relative difference of a peak: {worst:.2e}");
+    assert!(worst <= MODAL_PEAKS, "full {full:?} modal {modal:?}");
 }

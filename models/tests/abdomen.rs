@@ -38,7 +38,12 @@ fn shipped_configurations_run_and_narrow_pelvis_loads_the_floor_less() {
     for cfg in ["narrow", "normal", "wide", "lordotic", "tilted"] {
         let mut s = scene(&[("configuration", cfg)], &[]);
         let m = s.meshed().unwrap();
-        assert!(m.min_angle >= 20.0, "{cfg}: min angle {}", m.min_angle);
+        // Uniform meshes keep the refinement's angle limit everywhere.
+        assert!(
+            m.min_angle >= models::scene::abdomen::mesher::ANGLE_LIMIT_DEG,
+            "{cfg}: min angle {}",
+            m.min_angle
+        );
         let p = peaks(&mut s, 1.0, &FLOOR);
         println!(
             "{cfg}: peak floor stress mean {:.5} MPa, max {:.5} MPa",
@@ -317,12 +322,10 @@ fn a_start_time_shifts_the_load_phase_and_press_total_reports_the_applied_load()
 #[test]
 fn a_communication_step_of_too_many_substeps_is_refused_by_name() {
     let mut s = scene(&[], &[("target_triangles", 300.0), ("max_step", 1e-8)]);
-    let start = std::time::Instant::now();
     let e = s.do_step(0.0, 10.0).unwrap_err();
-    assert!(
-        start.elapsed().as_secs_f64() < 1.0,
-        "refused before stepping"
-    );
+    // Refused before stepping: time and field are where they were.
+    assert_eq!(s.time(), 0.0);
+    assert_eq!(s.get("apex_uy").unwrap(), 0.0);
     assert!(matches!(e, SceneError::TooManySubsteps { .. }), "{e}");
     let text = e.to_string();
     assert!(

@@ -207,7 +207,8 @@ fn modal_order_follows_the_full_order_on_mixed_triangles() {
         "modal vs full, mixed tri6: {:.2e} of the peak",
         worst / peak
     );
-    assert!(worst < 0.01 * peak, "{worst} of {peak}");
+    // Measured 1.03e-5 (2026-11-25); the 80-vector basis holds the static response exactly.
+    assert!(worst < 3e-5 * peak, "{worst} of {peak}");
 }
 
 /// `mesh_subdivisions` nests the meshes: each split quadruples the triangles and keeps the

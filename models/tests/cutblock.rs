@@ -390,17 +390,16 @@ fn open_flanks_give_the_contact_free_answer() {
 }
 
 /// cells 400 × 400 × 400 lie inside the declared ranges; the model would need hundreds of
-/// gigabytes. It is refused by its estimate before anything is allocated, in well under a
-/// second, and a model that fits still builds.
+/// gigabytes. It is refused by its estimate before anything is allocated (the message is
+/// the estimate's: a real allocation of that size would abort the test), and a model that
+/// fits still builds.
 #[test]
 fn a_block_above_the_memory_limit_is_refused_before_it_is_allocated() {
-    let start = std::time::Instant::now();
     let mut s = CutBlock::new();
     for c in ["cells_x", "cells_y", "cells_z"] {
         s.set(c, 400.0).unwrap();
     }
     let e = s.initialize(0.0).unwrap_err().to_string();
-    assert!(start.elapsed().as_secs_f64() < 1.0);
     assert!(
         e.contains("the block mesh and its sparse system") && e.contains("memory_limit = 8000 MB"),
         "{e}"
@@ -474,32 +473,27 @@ fn neo_hookean(settings: &[(&str, f64)]) -> CutBlock {
     scene(settings, &[("material", "neo-hookean")])
 }
 
-/// Hard cases with the neo-Hookean law: a 30 mm pull (37.5 % nominal strain) either
-/// converges, stiffer than at 10 mm, or fails naming the pull reached with the 10 mm state
-/// kept; a 10 mm compression closes the cut on contact, the flanks penetrating by less than
-/// a quarter of the scanner noise (0.005 mm; 0.0013 measured); ν = 0.499
-/// converges, stiffer than ν = 0.45; the flank pressed at the tip of a half cut.
+/// Hard cases with the neo-Hookean law: a 30 mm pull (37.5 % nominal strain) converges, the
+/// force between two and three times the 10 mm one (an incompressible neo-Hookean bar has
+/// the nominal stress μ(λ − λ⁻²): 2.5 times as much at the block's stretch 1.375 as at
+/// 1.125; 17.98 N against 6.85 N measured, 2.6); a 10 mm compression closes
+/// the cut on contact, the flanks penetrating by less than a quarter of the scanner noise
+/// (0.005 mm; 0.0013 measured); ν = 0.499 converges, stiffer than ν = 0.45; the flank
+/// pressed at the tip of a half cut with 2 N converges on contact, with 5 N at once is
+/// refused naming `press_force`, the unloaded state kept.
 #[test]
 fn neo_hookean_hard_cases_converge_or_fail_keeping_the_last_state() {
     let mut s = neo_hookean(&[]);
     step(&mut s, &[("scalpel_x", 100.0), ("pull", 10.0)]);
     let at_10 = get(&mut s, "reaction_force");
     s.set("pull", 30.0).unwrap();
-    match s.do_step(1.0, 1.0) {
-        Ok(_) => {
-            let at_30 = get(&mut s, "reaction_force");
-            println!("pull 30 mm converged: {at_30:.4} N (10 mm: {at_10:.4} N)");
-            assert!(
-                at_30.is_finite() && at_30 > 2.0 * at_10,
-                "{at_30} vs {at_10}"
-            );
-        }
-        Err(e) => {
-            println!("pull 30 mm: {e}");
-            assert!(e.to_string().contains("pull"), "{e}");
-            assert_eq!(get(&mut s, "reaction_force"), at_10);
-        }
-    }
+    s.do_step(1.0, 1.0).unwrap();
+    let at_30 = get(&mut s, "reaction_force");
+    println!("pull 30 mm converged: {at_30:.4} N (10 mm: {at_10:.4} N)");
+    assert!(
+        at_30 > 2.0 * at_10 && at_30 < 3.0 * at_10,
+        "{at_30} vs {at_10}"
+    );
 
     let mut s = neo_hookean(&[]);
     step(&mut s, &[("scalpel_x", 100.0), ("pull", -10.0)]);
@@ -520,10 +514,9 @@ fn neo_hookean_hard_cases_converge_or_fail_keeping_the_last_state() {
     println!("ν = 0.499: {stiff:.4} N, ν = 0.45: {soft:.4} N");
     assert!(stiff.is_finite() && stiff > soft, "{stiff} vs {soft}");
 
-    // Pressing the flank at the tip of a half cut: 2 N closes the cut onto contact (the
-    // surface 19 mm down, penetration 1.4 µm). 5 N at once folds the flanks towards the
-    // edge of the contact's small-sliding range: it either converges with the flanks apart
-    // or fails naming press_force with the unloaded state kept.
+    // Pressing the flank at the tip of a half cut: 2 N closes the cut onto contact
+    // (penetration 1.4 µm). 5 N at once folds the flanks beyond the contact's small-sliding
+    // range: refused, naming press_force, with the unloaded state kept.
     let mut s = neo_hookean(&[]);
     step(&mut s, &[("scalpel_x", 50.0), ("press_force", 2.0)]);
     let at_2 = ["reaction_force", "penetration", "contact_points"].map(|o| get(&mut s, o));
@@ -532,22 +525,48 @@ fn neo_hookean_hard_cases_converge_or_fail_keeping_the_last_state() {
     let mut s = neo_hookean(&[]);
     step(&mut s, &[("scalpel_x", 50.0)]);
     s.set("press_force", 5.0).unwrap();
-    match s.do_step(1.0, 1.0) {
-        Ok(_) => {
-            let depth = get(&mut s, "penetration");
-            println!("press 5 N converged: penetration {depth:e} mm");
-            assert!(depth < 5e-3, "{depth}");
-        }
-        Err(e) => {
-            println!("press 5 N: {e}");
-            assert!(e.to_string().contains("press_force"), "{e}");
-            let field = s
-                .field()
-                .unwrap()
-                .1
-                .iter()
-                .fold(0.0f64, |a, b| a.max(b.abs()));
-            assert_eq!(field, 0.0, "the unloaded state is kept");
-        }
-    }
+    let e = s.do_step(1.0, 1.0).unwrap_err();
+    println!("press 5 N: {e}");
+    assert!(
+        e.to_string().contains("press_force") && e.to_string().contains("small-sliding"),
+        "{e}"
+    );
+    let field = s
+        .field()
+        .unwrap()
+        .1
+        .iter()
+        .fold(0.0f64, |a, b| a.max(b.abs()));
+    assert_eq!(field, 0.0, "the unloaded state is kept");
+}
+
+/// A pull change that would take more than `MAX_INCREMENTS` Newton load increments is
+/// refused before any work, naming `max_increment` and the change, and the scene stays
+/// usable: the declared minimum `max_increment` = 1e-6 mm with a 1 mm pull (10⁶
+/// increments) is refused; 1,000 increments are allowed.
+#[test]
+fn a_pull_change_of_too_many_newton_increments_is_refused_by_name() {
+    use models::scene::cutblock::MAX_INCREMENTS;
+    let mut s = neo_hookean(&[("cells_x", 2.0), ("cells_y", 4.0), ("cells_z", 2.0)]);
+    step(&mut s, &[("max_increment", 1e-6), ("scalpel_x", 100.0)]);
+    s.set("pull", 1.0).unwrap();
+    let e = s.do_step(1.0, 1.0).unwrap_err();
+    assert!(matches!(e, SceneError::TooManyIncrements { .. }), "{e}");
+    let text = e.to_string();
+    assert!(
+        text.contains("pull changes by 1 mm")
+            && text.contains("max_increment = 0.000001 mm")
+            && text.contains("1000000 Newton load increments"),
+        "{text}"
+    );
+    assert_eq!(
+        get(&mut s, "reaction_force"),
+        0.0,
+        "the unloaded state is kept"
+    );
+    // Exactly the limit is allowed.
+    let before = s.work().increments;
+    step(&mut s, &[("max_increment", 1.0 / MAX_INCREMENTS)]);
+    assert!(get(&mut s, "reaction_force") > 0.0);
+    assert_eq!(s.work().increments - before, MAX_INCREMENTS as u64);
 }

@@ -222,7 +222,8 @@ fn under_a_small_load_finite_strain_tends_to_the_linear_answer() {
     println!(
         "finite vs linear (Houbolt): force 1e-3 {large:.2e}, 1e-5 {small:.2e}, 5e-6 {half:.2e}"
     );
-    assert!(small < 1e-3, "{small:e}");
+    // Measured 2.73e-5 (2026-11-25).
+    assert!(small < 1e-4, "{small:e}");
     // A tip load's deflection is odd in the load, so the first nonlinear term is cubic: the
     // relative gap falls as the square of the load.
     assert!((small / half - 4.0).abs() < 0.2, "{small:e} {half:e}");

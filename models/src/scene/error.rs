@@ -58,6 +58,20 @@ pub enum SceneError {
         substeps: f64,
         limit: f64,
     },
+    /// A change of a prescribed displacement that would take more Newton load increments
+    /// than one step may.
+    #[error(
+        "the {input} changes by {change} mm in one step: with max_increment = {max_increment} \
+         mm that is {increments} Newton load increments, more than the {limit} one step may \
+         take; raise max_increment or spread the change over more steps"
+    )]
+    TooManyIncrements {
+        input: &'static str,
+        change: f64,
+        max_increment: f64,
+        increments: f64,
+        limit: f64,
+    },
     #[error("invalid configuration: {0}")]
     Config(String),
     /// An explicit integrator asked to step above its stability limit.

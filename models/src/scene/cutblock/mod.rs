@@ -25,6 +25,7 @@ mod variables;
 use geometry::{Geometry, Options, Strategy, Support};
 use outputs::Outputs;
 use topology::Topology;
+pub use topology::MAX_INCREMENTS;
 use variables::*;
 
 use super::{check_step, megabytes, Scene, SceneError, Values, Variable, SMALL_STRAIN_LIMIT};

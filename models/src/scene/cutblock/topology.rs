@@ -6,6 +6,13 @@
 //! springs) per material, topology and contact set, so a new load costs one solve; a
 //! finite-strain law goes from the last equilibrium to the new load with Newton's method
 //! ([`crate::solve::newton`]) in increments of at most `max_increment` of pull.
+//!
+//! The work of one step is bounded for every value in the declared ranges: at most
+//! [`MAX_INCREMENTS`] load increments of the pull change (a larger count is refused before
+//! any work, naming `max_increment` and the change), each cut back at most 8 times and of at
+//! most 25 Newton iterations ([`Settings`]); with contact, at most [`CONTACT_ITERATIONS`]
+//! solves per contact set and the change split into at most 2 + 4 + [`CONTACT_PARTS`]
+//! parts.
 
 use super::contact::{FlankContact, Spring, PENALTY_FACTOR, SLIDING_LIMIT};
 use super::geometry::{Geometry, Strategy, Support};
@@ -20,6 +27,9 @@ use crate::mesh::{Mesh3d, QuadraticMesh};
 use crate::scene::SceneError;
 use crate::solve::newton::{Equations, Newton, Settings};
 use crate::solve::{Factorization, Statics};
+
+/// The most Newton load increments one step may take.
+pub const MAX_INCREMENTS: f64 = 1000.0;
 
 /// Largest number of solves per step while the contact set changes.
 const CONTACT_ITERATIONS: usize = 25;
@@ -338,6 +348,19 @@ impl Topology {
         press: f64,
         scalpel_x: f64,
     ) -> Result<(), SceneError> {
+        if let Solver::Newton(n) = &self.solver {
+            let (change, max_increment) = ((pull - self.load.0).abs(), n.settings().max_increment);
+            let increments = (change / max_increment).ceil();
+            if increments > MAX_INCREMENTS {
+                return Err(SceneError::TooManyIncrements {
+                    input: "pull",
+                    change,
+                    max_increment,
+                    increments,
+                    limit: MAX_INCREMENTS,
+                });
+            }
+        }
         self.saved.copy_from_slice(&self.u);
         let (load, active) = (self.load, self.contact.as_ref().map(|c| c.active.clone()));
         let mut result = self.settle(g, pull, press, scalpel_x);
