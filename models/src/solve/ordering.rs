@@ -5,12 +5,13 @@
 //! against 15.4 M and 0.65 s.
 //!
 //! METIS seeds its random generator at each call, so calls from two threads at once would
-//! race and give orderings that differ from run to run; the calls are therefore serialized,
-//! which makes every ordering repeatable within one copy of this library. Limit: `metis-sys`
-//! builds GKlib without `USE_GKRAND`, so the generator is libc's process-wide `rand()`; two
-//! copies of this library in one process (an FMU beside the scene linked into the host, or
-//! the FMI 2 and FMI 3 FMUs together) ordering at the same moment, or a host calling
-//! `rand()` meanwhile, can change an ordering and with it the last bits of a result.
+//! race and give orderings that differ from run to run; the calls are therefore serialized.
+//! The generator is GKlib's own (`USE_GKRAND`, set for the METIS build in
+//! `.cargo/config.toml`), whose state belongs to this copy of the library rather than libc's
+//! process-wide `rand()`: every ordering is the same whatever other threads, other copies of
+//! the library (the FMI 2 and FMI 3 FMUs, an FMU beside the scene linked into the host) or
+//! the host do (`tests/tests/fmi_import.rs` runs them all at once, 20 times). A build
+//! without that flag would import `rand` from libc; the FMU tests check that it does not.
 
 use std::sync::Mutex;
 
