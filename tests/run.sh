@@ -25,9 +25,8 @@ fi
 echo "== cargo clippy (all targets and features, warnings are errors)"
 cargo clippy --workspace --all-targets --all-features --release -- -D warnings
 
-echo "== build and bundle the FMUs (the import tests load them)"
-cargo build --release -p fmu
-./target/release/bundle
+echo "== the FMU library against glibc 2.28 (cargo-zigbuild, zig from PyPI), bundled (the import tests load the FMUs)"
+bash fmu/bundle.sh
 
 echo "== Rust tests (release, with the harness's FMU backend)"
 cargo test --workspace --all-features --release

@@ -8,7 +8,7 @@ stress of each and plots the mean floor stress over time.
     python examples/python/compare_pelvis.py --configurations narrow wide \
         --set wall_E=0.05 --set model_order=modal --plot floor.png
 
-Build the FMUs first: cargo build --release -p fmu && target/release/bundle
+Build the FMUs first: bash fmu/bundle.sh
 Every parameter (`--set name=value`) is listed in docs/reference/abdomen-variables.md.
 At the default press the abdomen is beyond the 5 % strain its default linear kinematics are
 valid for and says so in its log: compare configurations with it, and use

@@ -11,7 +11,7 @@ from 0 to --pull mm over the whole run. The FMI 3 FMU returns each profile as on
 logs a warning beyond 5 % strain (a 10 mm pull with the full cut goes there);
 `--set material=neo-hookean` is the law the shipped measurements match. Every variable is
 listed in docs/reference/cutblock-variables.md. Build the FMUs first:
-cargo build --release -p fmu && target/release/bundle
+bash fmu/bundle.sh
 """
 
 import argparse

@@ -135,13 +135,13 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
     _toleranceDefined: fmi2Boolean,
     _tolerance: fmi2Real,
     startTime: fmi2Real,
-    _stopTimeDefined: fmi2Boolean,
-    _stopTime: fmi2Real,
+    stopTimeDefined: fmi2Boolean,
+    stopTime: fmi2Real,
 ) -> fmi2Status {
     guard(
         c,
         Some((Call::SetupExperiment, "fmi2SetupExperiment")),
-        |i| i.setup_experiment(startTime),
+        |i| i.setup_experiment(startTime, (stopTimeDefined != 0).then_some(stopTime)),
     )
 }
 
@@ -299,7 +299,14 @@ pub unsafe extern "C" fn fmi2DoStep(
 /// FMI 2.0 contract.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
-    ffi::unsupported(c, "fmi2CancelStep")
+    // Steps finish before fmi2DoStep returns: there is never a step to cancel.
+    guard(c, None, |i| {
+        i.error(
+            Status::Error,
+            "fmi2CancelStep: can be called when fmi2DoStep returned fmi2Pending, which it \
+             never does (steps finish before it returns)",
+        )
+    })
 }
 
 /// # Safety
@@ -407,7 +414,15 @@ pub unsafe extern "C" fn fmi2GetStatus(
     _kind: c_int,
     _value: *mut fmi2Status,
 ) -> fmi2Status {
-    ffi::unsupported(c, "fmi2GetStatus")
+    // fmi2DoStepStatus and fmi2PendingStatus are defined after fmi2DoStep returned
+    // fmi2Pending, which it never does: the status is not available (fmi2Discard).
+    guard(c, None, |i| {
+        i.error(
+            Status::Discard,
+            "fmi2GetStatus: no step is pending (fmi2DoStep finishes every step before it \
+             returns)",
+        )
+    })
 }
 
 /// # Safety

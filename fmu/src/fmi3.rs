@@ -124,13 +124,13 @@ pub unsafe extern "C" fn fmi3EnterInitializationMode(
     _toleranceDefined: fmi3Boolean,
     _tolerance: fmi3Float64,
     startTime: fmi3Float64,
-    _stopTimeDefined: fmi3Boolean,
-    _stopTime: fmi3Float64,
+    stopTimeDefined: fmi3Boolean,
+    stopTime: fmi3Float64,
 ) -> fmi3Status {
     guard(
         c,
         Some((Call::EnterInitialization, "fmi3EnterInitializationMode")),
-        |i| match i.setup_experiment(startTime) {
+        |i| match i.setup_experiment(startTime, stopTimeDefined.then_some(stopTime)) {
             Status::Ok => i.enter_initialization(),
             s => s,
         },

@@ -17,7 +17,7 @@
 use std::ffi::CString;
 use std::sync::Arc;
 
-use models::scene::{Causality, ErrorKind, Scene, SceneError, Variable, VariableKind};
+use models::scene::{seconds, Causality, ErrorKind, Scene, SceneError, Variable, VariableKind};
 
 use crate::model::{Model, Version};
 
@@ -133,6 +133,8 @@ pub struct Instance {
     /// Why the initialization failed, for the messages of later calls.
     failure: Option<String>,
     start_time: f64,
+    /// The stop time the importer defined, if any: no step may pass it.
+    stop_time: Option<f64>,
     time: f64,
     log: Log,
     messages: Vec<Message>,
@@ -186,6 +188,7 @@ impl Instance {
             built: false,
             failure: None,
             start_time: 0.0,
+            stop_time: None,
             time: 0.0,
             log,
             messages: Vec::new(),
@@ -290,11 +293,21 @@ impl Instance {
         Status::Warning
     }
 
-    pub fn setup_experiment(&mut self, start: f64) -> Status {
+    /// The start time and, if the importer defines one, the stop time (FMI 2
+    /// `fmi2SetupExperiment`, FMI 3 `fmi3EnterInitializationMode`).
+    pub fn setup_experiment(&mut self, start: f64, stop: Option<f64>) -> Status {
         if !start.is_finite() {
             return self.error(Status::Error, &format!("start time {start} is not finite"));
         }
+        if let Some(stop) = stop.filter(|&s| !(s.is_finite() && s >= start)) {
+            let message = format!(
+                "stop time {stop} must be finite and not before the start time {} s",
+                seconds(start)
+            );
+            return self.error(Status::Error, &message);
+        }
         self.start_time = start;
+        self.stop_time = stop;
         self.time = start;
         Status::Ok
     }
@@ -311,7 +324,10 @@ impl Instance {
             return Status::Ok;
         }
         if self.log_calls {
-            let message = format!("building the model, start time {} s", self.start_time);
+            let message = format!(
+                "building the model, start time {} s",
+                seconds(self.start_time)
+            );
             self.messages.push((Status::Ok, "logCalls", message));
         }
         match self.scene.initialize(self.start_time) {
@@ -376,8 +392,18 @@ impl Instance {
         let tolerance = 1e-9 * current.abs().max(h).max(1.0);
         if (current - self.time).abs() > tolerance {
             let message = format!(
-                "currentCommunicationPoint {current} does not match the instance time {}",
-                self.time
+                "currentCommunicationPoint {} s does not match the instance time {} s",
+                seconds(current),
+                seconds(self.time)
+            );
+            return self.error(Status::Error, &message);
+        }
+        if let Some(stop) = self.stop_time.filter(|&s| current + h > s + tolerance) {
+            let message = format!(
+                "a step from t = {} s by {} s would pass the stop time {} s the importer set",
+                seconds(current),
+                seconds(h),
+                seconds(stop)
             );
             return self.error(Status::Error, &message);
         }
@@ -405,6 +431,7 @@ impl Instance {
         self.built = false;
         self.failure = None;
         self.start_time = 0.0;
+        self.stop_time = None;
         self.time = 0.0;
         Status::Ok
     }
@@ -659,6 +686,44 @@ mod tests {
         let vrs: Vec<u32> = SMALL.iter().map(|(n, _)| vr(n)).collect();
         let values: Vec<f64> = SMALL.iter().map(|p| p.1).collect();
         assert_eq!(i.set_reals(&vrs, &values), Status::Ok);
+    }
+
+    /// A stop time the importer defines is honoured: steps up to it go, one past it is an
+    /// error naming both times (rounded: `0.3 s`, not `0.30000000000000004 s`), and the
+    /// instance stays at its last time, usable; a stop time before the start is refused.
+    #[test]
+    fn the_stop_time_is_honoured_and_times_print_rounded() {
+        let (mut i, vr) = instance(Version::Fmi2, false);
+        assert_eq!(i.setup_experiment(0.0, Some(-1.0)), Status::Error);
+        assert!(texts(&mut i)[0].contains("stop time -1 must be finite and not before"));
+        assert_eq!(i.setup_experiment(0.0, Some(0.3)), Status::Ok);
+        small(&mut i, &vr);
+        i.enter_initialization();
+        assert_eq!(i.exit_initialization(), Status::Ok);
+        for k in 0..3 {
+            assert_eq!(i.do_step(f64::from(k) * 0.1, 0.1), Status::Ok, "step {k}");
+        }
+        assert_eq!(i.time(), 0.1 + 0.1 + 0.1);
+        assert_eq!(i.do_step(0.1 + 0.1 + 0.1, 0.1), Status::Error);
+        let message = texts(&mut i).join("\n");
+        assert!(
+            message.contains("a step from t = 0.3 s by 0.1 s would pass the stop time 0.3 s"),
+            "{message}"
+        );
+        assert_eq!(i.do_step(0.5, 0.1), Status::Error);
+        let message = texts(&mut i).join("\n");
+        assert!(
+            message
+                .contains("currentCommunicationPoint 0.5 s does not match the instance time 0.3 s"),
+            "{message}"
+        );
+        assert_eq!(
+            i.phase(),
+            Phase::Step,
+            "a refused step leaves the instance usable"
+        );
+        assert_eq!(i.reset(), Status::Ok);
+        assert_eq!(i.setup_experiment(0.0, None), Status::Ok);
     }
 
     #[test]

@@ -441,3 +441,36 @@ fn capability_flags_are_honoured() {
     }
     assert_eq!(ALLOCATIONS.load(std::sync::atomic::Ordering::SeqCst), 0);
 }
+
+/// `fmi2GetStatus` and `fmi2CancelStep` answer as the standard allows for an FMU whose steps
+/// never return fmi2Pending: the status is not available (fmi2Discard), there is nothing to
+/// cancel (fmi2Error); neither changes the instance, which steps on. A stop time set in
+/// `fmi2SetupExperiment` is honoured.
+#[test]
+fn status_queries_cancel_and_the_stop_time() {
+    const DISCARD: fmi2Status = 2;
+    let c = initialized();
+    let mut status = OK;
+    unsafe {
+        assert_eq!(fmi2GetStatus(c, 0, &mut status), DISCARD);
+        assert_eq!(fmi2CancelStep(c), ERROR);
+        assert_eq!(fmi2DoStep(c, 0.0, 1.0, 1), OK);
+        let mut last = 0.0;
+        assert_eq!(fmi2GetRealStatus(c, 2, &mut last), OK);
+        assert_eq!(last, 1.0);
+        fmi2FreeInstance(c);
+    }
+    let c = instantiate();
+    unsafe {
+        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 1, 1.5), OK);
+        for (n, v) in SMALL {
+            assert_eq!(set(c, n, v), OK);
+        }
+        assert_eq!(fmi2EnterInitializationMode(c), OK);
+        assert_eq!(fmi2ExitInitializationMode(c), OK);
+        assert_eq!(fmi2DoStep(c, 0.0, 1.0, 1), OK);
+        assert_eq!(fmi2DoStep(c, 1.0, 1.0, 1), ERROR, "past the stop time");
+        assert_eq!(fmi2DoStep(c, 1.0, 0.5, 1), OK, "up to it");
+        fmi2FreeInstance(c);
+    }
+}

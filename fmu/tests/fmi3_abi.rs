@@ -217,3 +217,61 @@ fn capability_flags_are_honoured() {
         fmi3FreeInstance(c);
     }
 }
+
+/// Terminated: no more steps, outputs still readable; `fmi3Reset` goes back to the state
+/// after instantiation with the start values, and the same run then gives the same results
+/// bit for bit. A stop time given to `fmi3EnterInitializationMode` is honoured.
+#[test]
+fn terminated_refuses_steps_and_reset_starts_over() {
+    let c = instantiate(false, null_mut(), None);
+    let run = |c: fmi3Instance| -> u64 {
+        let (mut event, mut terminate, mut early, mut last) = (false, false, false, 0.0);
+        unsafe {
+            for (n, v) in [("cells_x", 2.0), ("cells_y", 4.0), ("cells_z", 3.0)] {
+                assert_eq!(set(c, n, v), OK);
+            }
+            assert_eq!(
+                fmi3EnterInitializationMode(c, false, 0.0, 0.0, true, 2.0),
+                OK
+            );
+            assert_eq!(fmi3ExitInitializationMode(c), OK);
+            assert_eq!(set(c, "pull", 2.0), OK);
+            let step = |t: f64,
+                        h: f64,
+                        event: &mut bool,
+                        terminate: &mut bool,
+                        early: &mut bool,
+                        last: &mut f64| {
+                fmi3DoStep(c, t, h, true, event, terminate, early, last)
+            };
+            assert_eq!(
+                step(0.0, 1.0, &mut event, &mut terminate, &mut early, &mut last),
+                OK
+            );
+            assert_eq!(
+                step(1.0, 1.5, &mut event, &mut terminate, &mut early, &mut last),
+                ERROR,
+                "past the stop time"
+            );
+            assert_eq!(
+                step(1.0, 1.0, &mut event, &mut terminate, &mut early, &mut last),
+                OK
+            );
+            assert_eq!(last, 2.0);
+            assert_eq!(fmi3Terminate(c), OK);
+            assert_eq!(
+                step(2.0, 1.0, &mut event, &mut terminate, &mut early, &mut last),
+                ERROR,
+                "terminated"
+            );
+        }
+        let (status, force) = get(c, "reaction_force");
+        assert_eq!(status, OK, "outputs stay readable when terminated");
+        force.to_bits()
+    };
+    let first = run(c);
+    assert_eq!(unsafe { fmi3Reset(c) }, OK);
+    assert_eq!(get(c, "cells_x"), (OK, 6.0), "start values after the reset");
+    assert_eq!(run(c), first);
+    unsafe { fmi3FreeInstance(c) };
+}

@@ -63,7 +63,7 @@ pub enum ModelError {
         ratio: f64,
     },
     /// The time integration produced non-finite values.
-    #[error("{integrator} diverged at t = {t} s (step {step}): {reason}")]
+    #[error("{integrator} diverged at t = {} s (step {step}): {reason}", crate::scene::seconds(*t))]
     Diverged {
         integrator: &'static str,
         t: f64,

@@ -4,6 +4,7 @@ mid-run and bad input."""
 
 import csv
 import io
+import re
 import struct
 import subprocess
 import sys
@@ -271,3 +272,20 @@ def test_fmus_are_small_and_their_libraries_stripped(model, version):
     sections = elf_sections(library.read_bytes())
     assert ".text" in sections and ".dynsym" in sections, sections
     assert not [s for s in sections if s.startswith(".debug") or s == ".symtab"], sections
+
+
+@pytest.mark.parametrize("model", ["abdomen", "cutblock"])
+@pytest.mark.parametrize("version", VERSIONS)
+def test_the_binary_loads_on_glibc_2_28_and_draws_no_libc_random_numbers(model, version, tmp_path):
+    """Every symbol the shipped library takes from glibc has a version of 2.28 or older (RHEL 8,
+    Debian 10), and METIS's orderings use no libc rand() (per-copy generator: results do not
+    depend on other threads or libraries)."""
+    extract(fmu(model, version), str(tmp_path))
+    (library,) = list(tmp_path.glob("binaries/*/*.so"))
+    dynamic = subprocess.run(["objdump", "-T", str(library)], check=True,
+                             capture_output=True, text=True).stdout
+    versions = {tuple(int(p) for p in v.split(".")) for v in
+                re.findall(r"GLIBC_([0-9.]+)\)", dynamic)}
+    assert versions and max(versions) <= (2, 28), sorted(versions)[-3:]
+    imported = {line.split()[-1] for line in dynamic.splitlines() if "*UND*" in line}
+    assert not imported & {"rand", "srand", "rand_r"}, imported & {"rand", "srand"}

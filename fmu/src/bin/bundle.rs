@@ -2,7 +2,9 @@
 //! `target/fmu/`.
 //!
 //! Run: `cargo run --release -p fmu --bin bundle` (cargo builds the shared library of the
-//! `fmu` crate alongside this binary; the bundler takes it from the same folder).
+//! `fmu` crate alongside this binary; the bundler takes it from the same folder), or
+//! `bundle --library PATH` with a library built elsewhere — `fmu/bundle.sh` passes the one
+//! built against glibc 2.28.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -10,11 +12,19 @@ use std::process::ExitCode;
 fn main() -> ExitCode {
     let exe = std::env::current_exe().unwrap_or_default();
     let dir = exe.parent().map(PathBuf::from).unwrap_or_default();
-    let library = dir.join(format!(
-        "{}fmu{}",
-        std::env::consts::DLL_PREFIX,
-        std::env::consts::DLL_SUFFIX
-    ));
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let library = match args.as_slice() {
+        [] => dir.join(format!(
+            "{}fmu{}",
+            std::env::consts::DLL_PREFIX,
+            std::env::consts::DLL_SUFFIX
+        )),
+        [flag, path] if flag == "--library" => PathBuf::from(path),
+        _ => {
+            eprintln!("usage: bundle [--library PATH-TO-libfmu.so]");
+            return ExitCode::FAILURE;
+        }
+    };
     let out = dir
         .parent()
         .map_or_else(|| PathBuf::from("target/fmu"), |target| target.join("fmu"));

@@ -133,6 +133,13 @@ pub trait Scene: Send {
     }
 }
 
+/// A time (s) as messages print it: rounded to 12 significant digits, so that a sum of steps
+/// reads `0.3`, not `0.30000000000000004`.
+pub fn seconds(t: f64) -> String {
+    let rounded: f64 = format!("{t:.11e}").parse().unwrap_or(t);
+    format!("{rounded}")
+}
+
 /// The default `memory_limit` (MB): a third of a 24 GB machine, leaving room for the
 /// importer and a second instance.
 pub const DEFAULT_MEMORY_LIMIT_MB: f64 = 8000.0;

@@ -288,7 +288,7 @@ impl Abdomen {
                 "at t = {} s the largest principal strain is {:.1} %, beyond the {:.0} % linear \
                  (small-strain) kinematics are valid for: use kinematics = \"finite\" \
                  (element = \"tri6\", formulation = \"displacement\") or a smaller load",
-                self.time,
+                super::seconds(self.time),
                 100.0 * strain,
                 100.0 * SMALL_STRAIN_LIMIT
             ));
