@@ -6,10 +6,12 @@
 pub mod abdomen;
 pub mod cutblock;
 mod error;
+mod state;
 mod variables;
 
 pub use error::{ErrorKind, SceneError};
-pub use variables::{Causality, Start, Values, Variability, Variable, VariableKind};
+pub use state::SceneState;
+pub use variables::{Causality, Start, Values, ValuesState, Variability, Variable, VariableKind};
 
 /// The scenes by name (the FMI model identifiers): `abdomen` and `cutblock`.
 pub const SCENES: [&str; 2] = ["abdomen", "cutblock"];
@@ -96,6 +98,15 @@ pub trait Scene: Send {
     /// Advances from `t` to `t + h` with the current inputs. Time-dependent loads follow
     /// the caller's time `t` (the FMI time), whatever the start time.
     fn do_step(&mut self, t: f64, h: f64) -> Result<(), SceneError>;
+
+    /// The scene's state: values and everything a later step depends on (see
+    /// [`SceneState`]).
+    fn save(&self) -> SceneState;
+
+    /// Puts a state taken by [`Scene::save`] back; the scene then continues bit for bit as
+    /// the one it was taken from. A state of another scene or table is refused; on error
+    /// the scene is as it was.
+    fn restore(&mut self, state: &SceneState) -> Result<(), SceneError>;
 
     /// Warnings since the last call, each once per run: where an input has taken the
     /// model beyond what it is valid for (strain, mesh resolution). The FMUs log them with

@@ -1,6 +1,8 @@
 //! The variable table of a scene and the store of its parameter and input values, with the
 //! checks every `set` goes through (kind, length, range, and whether it may change now).
 
+use serde::{Deserialize, Serialize};
+
 use super::SceneError;
 
 /// FMI causality.
@@ -175,6 +177,14 @@ impl Variable {
     }
 }
 
+/// The values of a [`Values`] and whether they are frozen, as a checkpoint holds them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ValuesState {
+    reals: Vec<f64>,
+    strings: Vec<String>,
+    initialized: bool,
+}
+
 /// The current values of a scene's parameters and inputs, indexed by value reference.
 #[derive(Debug, Clone)]
 pub struct Values {
@@ -227,6 +237,30 @@ impl Values {
         self.table
             .get(vr as usize)
             .ok_or(SceneError::UnknownVariable(vr))
+    }
+
+    /// The values and whether they are frozen.
+    pub fn save(&self) -> ValuesState {
+        ValuesState {
+            reals: self.reals.clone(),
+            strings: self.strings.clone(),
+            initialized: self.initialized,
+        }
+    }
+
+    /// Takes saved values back; a state of another table (other lengths) is refused.
+    pub fn restore(&mut self, state: &ValuesState) -> Result<(), SceneError> {
+        if state.reals.len() != self.reals.len() || state.strings.len() != self.strings.len() {
+            return Err(SceneError::Config(format!(
+                "the saved values are for a table of {} variables, this one has {}",
+                state.reals.len(),
+                self.reals.len()
+            )));
+        }
+        self.reals.clone_from(&state.reals);
+        self.strings.clone_from(&state.strings);
+        self.initialized = state.initialized;
+        Ok(())
     }
 
     /// Marks the scene initialized: fixed parameters are frozen from now on.

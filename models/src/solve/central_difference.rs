@@ -11,7 +11,7 @@
 //! the scheme runs as asked and grows without bound; the scenes refuse such steps.
 
 use super::integrator::{
-    check_dt, check_finite, initial_state, Integrator, IntegratorKind, Load, State,
+    check_dt, check_finite, initial_state, Checkpoint, Integrator, IntegratorKind, Load, State,
 };
 use super::spectrum::max_omega_squared;
 use super::structure::Structure;
@@ -59,6 +59,25 @@ impl Integrator for CentralDifference {
         self.dt = check_dt(dt)?;
         self.critical = 2.0 / max_omega_squared(s).sqrt();
         self.f.resize(s.n(), 0.0);
+        Ok(())
+    }
+
+    fn checkpoint(&self) -> Checkpoint {
+        Checkpoint {
+            history: vec![self.v_half.clone()],
+            ..Checkpoint::new(self.kind(), self.dt, &self.state)
+        }
+    }
+
+    fn resume(&mut self, s: &Structure, c: &Checkpoint) -> Result<(), ModelError> {
+        c.check(self.kind(), self.dt, s.n())?;
+        let [v_half] = c.history.as_slice() else {
+            return Err(ModelError::LinearAlgebra(
+                "a central-difference checkpoint holds v_{n+½}".into(),
+            ));
+        };
+        self.state = c.state.clone();
+        self.v_half = v_half.clone();
         Ok(())
     }
 

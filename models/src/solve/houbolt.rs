@@ -25,8 +25,8 @@
 //! limit before Houbolt damped it out).
 
 use super::integrator::{
-    check_dt, check_finite, consistent_acceleration, initial_state, Integrator, IntegratorKind,
-    Load, State,
+    check_dt, check_finite, consistent_acceleration, initial_state, Checkpoint, Integrator,
+    IntegratorKind, Load, State,
 };
 use super::newmark::Newmark;
 use super::structure::{Effective, History, Structure};
@@ -191,5 +191,36 @@ impl Integrator for Houbolt {
 
     fn newton_iterations(&self) -> usize {
         self.effective.iterations()
+    }
+
+    fn checkpoint(&self) -> Checkpoint {
+        Checkpoint {
+            history: self.back.to_vec(),
+            start_steps: self.start_steps,
+            starter: (self.start_steps > 0).then(|| Box::new(self.starter.checkpoint())),
+            tangent_at: self.effective.kept_tangent(),
+            ..Checkpoint::new(self.kind(), self.dt, &self.state)
+        }
+    }
+
+    fn resume(&mut self, s: &Structure, c: &Checkpoint) -> Result<(), ModelError> {
+        c.check(self.kind(), self.dt, s.n())?;
+        let [b1, b2] = c.history.as_slice() else {
+            return Err(ModelError::LinearAlgebra(
+                "a Houbolt checkpoint holds u_{n−1} and u_{n−2}".into(),
+            ));
+        };
+        self.state = c.state.clone();
+        self.back = [b1.clone(), b2.clone()];
+        self.start_steps = c.start_steps;
+        self.starter = Newmark::default();
+        if let Some(starter) = c.starter.as_deref().filter(|_| self.start_steps > 0) {
+            self.starter.prepare(s, self.dt)?;
+            self.starter.resume(s, starter)?;
+        }
+        if let Some(x) = &c.tangent_at {
+            self.effective.refactorize_at(s, x)?;
+        }
+        Ok(())
     }
 }

@@ -7,6 +7,8 @@
 //! the existing symbolic analysis and the run continues from the current state. A step
 //! allocates nothing.
 
+use serde::{Deserialize, Serialize};
+
 use super::structure::Structure;
 use crate::error::ModelError;
 
@@ -14,7 +16,7 @@ use crate::error::ModelError;
 pub type Load<'a> = dyn FnMut(f64, &mut [f64]) + 'a;
 
 /// Displacement, velocity and acceleration on the free dofs at time `t`.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct State {
     pub t: f64,
     pub u: Vec<f64>,
@@ -40,8 +42,65 @@ impl State {
     }
 }
 
+/// What a later step of an integrator depends on, beyond the structure and the step size
+/// it was prepared for: [`Integrator::checkpoint`] takes it, [`Integrator::resume`] puts it
+/// back into an integrator of the same kind prepared for the same structure and `dt`, which
+/// then continues bit for bit as the one it was taken from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Checkpoint {
+    pub kind: IntegratorKind,
+    pub dt: f64,
+    pub state: State,
+    /// The scheme's own vectors: Houbolt u_{n−1}, u_{n−2}; central difference v_{n+½}.
+    pub history: Vec<Vec<f64>>,
+    /// Houbolt: steps left to take with its starter, and the starter's checkpoint then.
+    pub start_steps: u8,
+    pub starter: Option<Box<Checkpoint>>,
+    /// RK4: the acceleration is stale (matrices changed since it was computed).
+    pub stale: bool,
+    /// Finite strain: the displacement (free dofs) at which the kept effective tangent was
+    /// factorized; `None` while the factor is the prepared one.
+    pub tangent_at: Option<Vec<f64>>,
+}
+
+impl Checkpoint {
+    /// A checkpoint of `kind` with the common parts; the scheme adds its own.
+    pub(crate) fn new(kind: IntegratorKind, dt: f64, state: &State) -> Self {
+        Self {
+            kind,
+            dt,
+            state: state.clone(),
+            history: Vec::new(),
+            start_steps: 0,
+            starter: None,
+            stale: false,
+            tangent_at: None,
+        }
+    }
+
+    /// Refuses a checkpoint of another scheme, step size or system size.
+    pub(crate) fn check(&self, kind: IntegratorKind, dt: f64, n: usize) -> Result<(), ModelError> {
+        let fits = self.kind == kind
+            && self.dt.to_bits() == dt.to_bits()
+            && self.state.u.len() == n
+            && self.history.iter().all(|h| h.len() == n);
+        if fits {
+            Ok(())
+        } else {
+            Err(ModelError::LinearAlgebra(format!(
+                "a {} checkpoint at dt = {} s of {} unknowns cannot resume a {} integrator \
+                 prepared for dt = {dt} s and {n} unknowns",
+                self.kind.name(),
+                self.dt,
+                self.state.u.len(),
+                kind.name()
+            )))
+        }
+    }
+}
+
 /// The selectable integrators.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum IntegratorKind {
     Houbolt,
     Newmark,
@@ -117,6 +176,14 @@ pub trait Integrator {
 
     /// The step size the scheme is prepared for.
     fn dt(&self) -> f64;
+
+    /// What a later step depends on (see [`Checkpoint`]).
+    fn checkpoint(&self) -> Checkpoint;
+
+    /// Puts a checkpoint back: requires a prior `prepare` for the same structure and the
+    /// checkpoint's `dt`; the integrator then continues as the one the checkpoint was taken
+    /// from, bit for bit.
+    fn resume(&mut self, s: &Structure, checkpoint: &Checkpoint) -> Result<(), ModelError>;
 
     /// Newton iterations of the last step on a finite-strain structure (0 when linear, and
     /// for the explicit schemes, which refuse such a structure).

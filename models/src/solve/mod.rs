@@ -22,7 +22,7 @@ mod vector_state;
 pub use central_difference::CentralDifference;
 pub use cholesky::{Cholesky, Factorization};
 pub use houbolt::Houbolt;
-pub use integrator::{Integrator, IntegratorKind, Load, State};
+pub use integrator::{Checkpoint, Integrator, IntegratorKind, Load, State};
 pub use modal::{ModalBasis, Reduction};
 pub use newmark::Newmark;
 pub use newton::Newton;

@@ -6,8 +6,8 @@
 //! ü_{n+1} = 4/Δt² (u_{n+1} − u_n) − 4/Δt u̇_n − ü_n,  u̇_{n+1} = u̇_n + Δt/2 (ü_n + ü_{n+1}).
 
 use super::integrator::{
-    check_dt, check_finite, consistent_acceleration, initial_state, Integrator, IntegratorKind,
-    Load, State,
+    check_dt, check_finite, consistent_acceleration, initial_state, Checkpoint, Integrator,
+    IntegratorKind, Load, State,
 };
 use super::structure::{Effective, History, Structure};
 use crate::error::ModelError;
@@ -42,6 +42,22 @@ impl Integrator for Newmark {
             x.resize(s.n(), 0.0);
         }
         self.effective.factorize(s, 4.0 / (dt * dt), 2.0 / dt)
+    }
+
+    fn checkpoint(&self) -> Checkpoint {
+        Checkpoint {
+            tangent_at: self.effective.kept_tangent(),
+            ..Checkpoint::new(self.kind(), self.dt, &self.state)
+        }
+    }
+
+    fn resume(&mut self, s: &Structure, c: &Checkpoint) -> Result<(), ModelError> {
+        c.check(self.kind(), self.dt, s.n())?;
+        self.state = c.state.clone();
+        if let Some(x) = &c.tangent_at {
+            self.effective.refactorize_at(s, x)?;
+        }
+        Ok(())
     }
 
     fn start(

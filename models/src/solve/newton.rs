@@ -33,6 +33,8 @@
 
 use std::time::{Duration, Instant};
 
+use serde::{Deserialize, Serialize};
+
 use super::cholesky::{Cholesky, Factorization};
 use crate::assembly::{Assembler, Dirichlet};
 use crate::error::ModelError;
@@ -134,14 +136,24 @@ enum Failure {
     Model(ModelError),
 }
 
+/// What a solve depends on besides the equations and the displacement: the load of the last
+/// equilibrium and where the kept tangent was factorized (see [`Newton::checkpoint`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Checkpoint {
+    pub prescribed: Vec<f64>,
+    pub external: Vec<f64>,
+    pub tangent_at: Option<Vec<f64>>,
+}
+
 /// A Newton–Raphson solver for one pattern and one set of constrained dofs.
 pub struct Newton {
     bc: Dirichlet,
     chol: Cholesky,
     settings: Settings,
     /// Whether `chol` holds a factorization of the present equations' tangent (made at
-    /// some state; `k` holds that tangent on the full pattern).
+    /// the state `factored_at`; `k` holds that tangent on the full pattern).
     factorized: bool,
+    factored_at: Vec<f64>,
     /// Full tangent and its free–free part.
     k: Vec<f64>,
     reduced: Vec<f64>,
@@ -188,6 +200,7 @@ impl Newton {
         let full = || vec![0.0; n];
         Ok(Self {
             factorized: false,
+            factored_at: full(),
             k: asm.zeros(),
             reduced: vec![0.0; bc.nnz()],
             f: full(),
@@ -249,6 +262,42 @@ impl Newton {
     /// springs), so the next increment starts from a new tangent.
     pub fn invalidate(&mut self) {
         self.factorized = false;
+    }
+
+    /// What the next solve depends on besides the equations and the caller's displacement.
+    pub fn checkpoint(&self) -> Checkpoint {
+        Checkpoint {
+            prescribed: self.prescribed.clone(),
+            external: self.external.clone(),
+            tangent_at: self.factorized.then(|| self.factored_at.clone()),
+        }
+    }
+
+    /// Puts a checkpoint back for the same equations: the load of the last equilibrium and
+    /// the kept tangent, factorized again where it was, so that the next solve goes as it
+    /// would have from where the checkpoint was taken.
+    pub fn resume(
+        &mut self,
+        eq: &mut impl Equations,
+        checkpoint: &Checkpoint,
+    ) -> Result<(), ModelError> {
+        let n = self.prescribed.len();
+        if checkpoint.prescribed.len() != n || checkpoint.external.len() != n {
+            return Err(ModelError::SizeMismatch {
+                name: "Newton checkpoint",
+                expected: n,
+                got: checkpoint.prescribed.len(),
+            });
+        }
+        self.restart(&checkpoint.prescribed, &checkpoint.external);
+        if let Some(x) = &checkpoint.tangent_at {
+            self.trial.copy_from_slice(x);
+            self.tangent(eq).map_err(|why| match why {
+                Failure::Model(e) => e,
+                _ => ModelError::LinearAlgebra("the kept tangent could not be rebuilt".into()),
+            })?;
+        }
+        Ok(())
     }
 
     /// Declares the caller's displacement an equilibrium under this load (after it restored
@@ -467,6 +516,7 @@ impl Newton {
         self.report.factorization += start.elapsed();
         self.report.factorizations += 1;
         self.factorized = factorized.is_ok();
+        self.factored_at.copy_from_slice(&self.trial);
         factorized.map_err(Failure::Model)
     }
 

@@ -3,7 +3,9 @@
 //! for ω_max Δt ≤ 2√2 (undamped), reported by [`Integrator::critical_time_step`].
 
 use super::central_difference::{explicit_start, lumped_acceleration};
-use super::integrator::{check_dt, check_finite, Integrator, IntegratorKind, Load, State};
+use super::integrator::{
+    check_dt, check_finite, Checkpoint, Integrator, IntegratorKind, Load, State,
+};
 use super::spectrum::max_omega_squared;
 use super::structure::Structure;
 use crate::error::ModelError;
@@ -40,6 +42,20 @@ impl Integrator for Rk4 {
             x.resize(s.n(), 0.0);
         }
         self.stale_acceleration = true;
+        Ok(())
+    }
+
+    fn checkpoint(&self) -> Checkpoint {
+        Checkpoint {
+            stale: self.stale_acceleration,
+            ..Checkpoint::new(self.kind(), self.dt, &self.state)
+        }
+    }
+
+    fn resume(&mut self, s: &Structure, c: &Checkpoint) -> Result<(), ModelError> {
+        c.check(self.kind(), self.dt, s.n())?;
+        self.state = c.state.clone();
+        self.stale_acceleration = c.stale;
         Ok(())
     }
 

@@ -347,6 +347,10 @@ pub(crate) struct Effective {
     values: Vec<f64>,
     coefficients: (f64, f64),
     newton: NewtonWork,
+    /// Finite strain: the displacement at which the kept tangent was factorized, when it is
+    /// not the prepared matrix (a checkpoint refactorizes there to continue bit for bit).
+    tangent_at: Vec<f64>,
+    has_tangent: bool,
 }
 
 /// The work vectors of the Newton iterations (sized when the matrix is first factorized for
@@ -394,8 +398,32 @@ impl Effective {
             };
         }
         self.coefficients = (c_m, c_c);
+        self.has_tangent = false;
+        self.tangent_at.resize(s.n(), 0.0);
         s.effective(c_m, c_c, &mut self.values);
         chol.factorize(s.dirichlet().matrix(&self.values))
+    }
+
+    /// Where the kept factor's tangent was taken, if it is not the prepared matrix.
+    pub(crate) fn kept_tangent(&self) -> Option<Vec<f64>> {
+        self.has_tangent.then(|| self.tangent_at.clone())
+    }
+
+    /// Refactorizes c_m M + c_c C + K_T(x) with the prepared coefficients, as a step's
+    /// Newton iteration at `x` would (to resume from a checkpoint).
+    pub(crate) fn refactorize_at(&mut self, s: &Structure, x: &[f64]) -> Result<(), ModelError> {
+        let (Some(forces), Some(chol)) = (&s.internal, self.chol.as_mut()) else {
+            return Err(ModelError::LinearAlgebra(
+                "a kept tangent needs a prepared finite-strain structure".into(),
+            ));
+        };
+        let w = &mut self.newton;
+        w.residual(s, forces.as_ref(), self.coefficients, x)?;
+        w.tangent(s, forces.as_ref(), self.coefficients, &mut self.values)?;
+        chol.factorize(s.dirichlet().matrix(&self.values))?;
+        self.tangent_at.copy_from_slice(x);
+        self.has_tangent = true;
+        Ok(())
     }
 
     /// Solves a step: on entry `x` holds the right-hand side (load and history terms), on
@@ -436,6 +464,8 @@ impl Effective {
             if fresh {
                 w.tangent(s, forces.as_ref(), coefficients, &mut self.values)?;
                 chol.factorize(s.dirichlet().matrix(&self.values))?;
+                self.tangent_at.copy_from_slice(x);
+                self.has_tangent = true;
             }
             previous = r;
             chol.solve_in_place(&mut w.residual);

@@ -52,7 +52,10 @@ pub mod geometry;
 pub mod mesher;
 mod model;
 mod outputs;
+mod state;
 mod variables;
+
+pub use state::State;
 
 use config::{PelvisConfig, ANATOMY};
 use discretization::{Element, FieldView};
@@ -64,8 +67,8 @@ use variables::{
 };
 
 use super::{
-    check_step, megabytes, GeneratedConfiguration, GeneratorParameter, Scene, SceneError, Values,
-    Variable, SMALL_STRAIN_LIMIT,
+    check_step, megabytes, GeneratedConfiguration, GeneratorParameter, Scene, SceneError,
+    SceneState, Values, ValuesState, Variable, SMALL_STRAIN_LIMIT,
 };
 use crate::budget;
 use crate::element::tri6::Formulation;
@@ -90,6 +93,8 @@ pub struct Abdomen {
     /// until one of them is requested.
     outputs: Option<[f64; outputs::COUNT]>,
     stiffness_changed: bool,
+    /// The values of the model's last build or stiffness update (what its matrices are of).
+    applied: Option<ValuesState>,
     time: f64,
     /// Warnings not yet taken, and whether the strain warning was given in this run.
     warnings: Vec<String>,
@@ -110,6 +115,7 @@ impl Abdomen {
             model: None,
             outputs: None,
             stiffness_changed: false,
+            applied: None,
             time: 0.0,
             warnings: Vec::new(),
             warned_strain: false,
@@ -239,6 +245,7 @@ impl Abdomen {
                 name: "do_step".into(),
             })?;
         m.set_properties(props, press)?;
+        self.applied = Some(self.values.save());
         self.stiffness_changed = false;
         self.check_locking();
         Ok(())
@@ -411,6 +418,7 @@ impl Scene for Abdomen {
         let limit = megabytes(self.values.real(MEMORY_LIMIT));
         let model = budget::within(limit, || self.started(start_time))?;
         self.model = Some(model);
+        self.applied = Some(self.values.save());
         self.time = start_time;
         self.outputs = None;
         self.values.freeze();
@@ -453,5 +461,55 @@ impl Scene for Abdomen {
 
     fn take_warnings(&mut self) -> Vec<String> {
         std::mem::take(&mut self.warnings)
+    }
+
+    fn save(&self) -> SceneState {
+        let model = self.model.as_ref().zip(self.applied.as_ref());
+        SceneState::Abdomen(Box::new(State {
+            values: self.values.save(),
+            time: self.time,
+            stiffness_changed: self.stiffness_changed,
+            warnings: self.warnings.clone(),
+            warned_strain: self.warned_strain,
+            model: model.map(|(m, applied)| state::ModelState {
+                applied: applied.clone(),
+                integrator: m.integrator.checkpoint(),
+            }),
+        }))
+    }
+
+    /// The model is built aside from the values its matrices were of, its integrator
+    /// resumed, and swapped in only when that worked.
+    fn restore(&mut self, state: &SceneState) -> Result<(), SceneError> {
+        let SceneState::Abdomen(s) = state else {
+            return Err(SceneError::Config(format!(
+                "a state of the {} scene cannot be restored into the abdomen",
+                state.scene()
+            )));
+        };
+        let mut values = self.values.clone();
+        values.restore(&s.values)?;
+        let model = match &s.model {
+            Some(m) => {
+                let mut applied = self.values.clone();
+                applied.restore(&m.applied)?;
+                let limit = megabytes(applied.real(MEMORY_LIMIT));
+                let mut model = budget::within(limit, || Model::build(&applied))?;
+                model.resume(&m.integrator)?;
+                Some(model)
+            }
+            None => None,
+        };
+        *self = Self {
+            values,
+            applied: s.model.as_ref().map(|m| m.applied.clone()),
+            model,
+            outputs: None,
+            stiffness_changed: s.stiffness_changed,
+            time: s.time,
+            warnings: s.warnings.clone(),
+            warned_strain: s.warned_strain,
+        };
+        Ok(())
     }
 }

@@ -18,7 +18,8 @@ use crate::element::Elastic;
 use crate::scene::{SceneError, Values};
 use crate::solve::newton::{Newton, Settings};
 use crate::solve::{
-    Damping, Factorization, Integrator, IntegratorKind, ModalBasis, Reduction, Statics, Structure,
+    Checkpoint, Damping, Factorization, Integrator, IntegratorKind, ModalBasis, Reduction, Statics,
+    Structure,
 };
 
 /// Everything built at initialization.
@@ -259,6 +260,16 @@ impl Model {
         let mut load = scaled(force, unit);
         self.integrator
             .start(structure, t0, &vec![0.0; n], &vec![0.0; n], &mut load)?;
+        Ok(())
+    }
+
+    /// Puts an integrator checkpoint back (see [`Checkpoint`]): the integrator prepared for
+    /// its step on the stepped system (full or reduced), then resumed.
+    pub fn resume(&mut self, checkpoint: &Checkpoint) -> Result<(), SceneError> {
+        let (structure, _) = stepped(&self.modal, &self.structure, &self.unit_load);
+        self.integrator.prepare(structure, checkpoint.dt)?;
+        self.integrator.resume(structure, checkpoint)?;
+        self.expanded = false;
         Ok(())
     }
 

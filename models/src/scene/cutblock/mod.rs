@@ -24,11 +24,14 @@ mod variables;
 
 use geometry::{Geometry, Options, Strategy, Support};
 use outputs::Outputs;
-use topology::Topology;
 pub use topology::MAX_INCREMENTS;
+use topology::{Topology, TopologyState};
 use variables::*;
 
-use super::{check_step, megabytes, Scene, SceneError, Values, Variable, SMALL_STRAIN_LIMIT};
+use super::{
+    check_step, megabytes, Scene, SceneError, SceneState, Values, ValuesState, Variable,
+    SMALL_STRAIN_LIMIT,
+};
 use crate::assembly::solid::{Solid, Tetrahedron};
 use crate::budget;
 use crate::element::{Elastic, Law, Material};
@@ -61,10 +64,21 @@ pub struct CutBlock {
     warned_strain: bool,
 }
 
+/// The cut block's state (see [`SceneState`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct State {
+    values: ValuesState,
+    initialized: bool,
+    topology: Option<TopologyState>,
+    work: Work,
+    warnings: Vec<String>,
+    warned_strain: bool,
+}
+
 /// What the scene has done so far: how often it rebuilt the topology, refactorized and
 /// solved, and for the finite-strain laws the Newton increments and iterations and where
 /// their time went.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Work {
     pub topology_builds: u64,
     pub factorizations: u64,
@@ -322,6 +336,60 @@ impl Scene for CutBlock {
 
     fn take_warnings(&mut self) -> Vec<String> {
         std::mem::take(&mut self.warnings)
+    }
+
+    fn save(&self) -> SceneState {
+        SceneState::CutBlock(Box::new(State {
+            values: self.values.save(),
+            initialized: self.geometry.is_some(),
+            topology: self.topology.as_ref().map(Topology::checkpoint),
+            work: self.work,
+            warnings: self.warnings.clone(),
+            warned_strain: self.warned_strain,
+        }))
+    }
+
+    /// Built aside from the saved values (geometry, then the topology with its saved
+    /// state) and swapped in only when everything is built.
+    fn restore(&mut self, state: &SceneState) -> Result<(), SceneError> {
+        let SceneState::CutBlock(s) = state else {
+            return Err(SceneError::Config(format!(
+                "a state of the {} scene cannot be restored into the cut block",
+                state.scene()
+            )));
+        };
+        let mut values = self.values.clone();
+        values.restore(&s.values)?;
+        let scene = Self {
+            values,
+            ..Self::new()
+        };
+        let limit = megabytes(scene.values.real(MEMORY_LIMIT));
+        let (geometry, topology) = if s.initialized {
+            let geometry = budget::within(limit, || scene.geometry_from_values())?;
+            let topology = match &s.topology {
+                Some(t) => {
+                    let kind = Tetrahedron::parse(scene.values.string(ELEMENT)?)?;
+                    let settings = scene.settings();
+                    Some(budget::within(limit, || {
+                        Topology::resume(&geometry, t, kind, settings)
+                    })?)
+                }
+                None => None,
+            };
+            (Some(geometry), topology)
+        } else {
+            (None, None)
+        };
+        *self = Self {
+            geometry,
+            topology,
+            work: s.work,
+            warnings: s.warnings.clone(),
+            warned_strain: s.warned_strain,
+            ..scene
+        };
+        Ok(())
     }
 
     fn do_step(&mut self, _t: f64, h: f64) -> Result<(), SceneError> {

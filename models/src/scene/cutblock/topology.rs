@@ -14,18 +14,20 @@
 //! solves per contact set and the change split into at most 2 + 4 + [`CONTACT_PARTS`]
 //! parts.
 
+use serde::{Deserialize, Serialize};
+
 use super::contact::{FlankContact, Spring, PENALTY_FACTOR, SLIDING_LIMIT};
 use super::geometry::{Geometry, Strategy, Support};
 use super::profiles::TopSurface;
 use super::Work;
 use crate::assembly::solid::{Body, Solid, Tetrahedron};
 use crate::assembly::{loads, mul_add, Assembler};
-use crate::element::Material;
+use crate::element::{Elastic, Law, Material};
 use crate::error::ModelError;
 use crate::mesh::cut::{self, CutMesh};
 use crate::mesh::{Mesh3d, QuadraticMesh};
 use crate::scene::SceneError;
-use crate::solve::newton::{Equations, Newton, Settings};
+use crate::solve::newton::{self, Equations, Newton, Settings};
 use crate::solve::{Factorization, Statics};
 
 /// The most Newton load increments one step may take.
@@ -82,6 +84,56 @@ pub struct Topology {
     loads: Vec<f64>,
     /// Factorizations, Newton increments and iterations since this topology was built.
     pub work: Work,
+}
+
+/// What a later solve of a topology depends on besides what its build makes (see
+/// [`crate::scene::SceneState`]): the cut, the material of its matrices, the last
+/// equilibrium, the contact springs and the Newton solver's kept tangent.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TopologyState {
+    cut_cells: usize,
+    law: String,
+    young: f64,
+    poisson: f64,
+    u: Vec<f64>,
+    f: Vec<f64>,
+    internal: Vec<f64>,
+    load: (f64, f64),
+    prescribed: Vec<f64>,
+    springs: Option<Vec<SpringState>>,
+    newton: Option<newton::Checkpoint>,
+    work: Work,
+}
+
+/// A contact spring as a checkpoint holds it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+struct SpringState {
+    element: usize,
+    node: usize,
+    b: [f64; 12],
+    g0: f64,
+}
+
+impl From<&Spring> for SpringState {
+    fn from(s: &Spring) -> Self {
+        Self {
+            element: s.element,
+            node: s.node,
+            b: s.b.into(),
+            g0: s.g0,
+        }
+    }
+}
+
+impl From<&SpringState> for Spring {
+    fn from(s: &SpringState) -> Self {
+        Self {
+            element: s.element,
+            node: s.node,
+            b: s.b.into(),
+            g0: s.g0,
+        }
+    }
 }
 
 /// The solid and the contact springs as the Newton solver's equations.
@@ -260,6 +312,77 @@ impl Topology {
             work: Work::default(),
         };
         t.assemble_linear()?;
+        Ok(t)
+    }
+
+    /// The topology's state (see [`TopologyState`]).
+    pub fn checkpoint(&self) -> TopologyState {
+        let m = self.solid.material;
+        TopologyState {
+            cut_cells: self.cut_cells,
+            law: m.law.name().into(),
+            young: m.elastic.young(),
+            poisson: m.elastic.poisson(),
+            u: self.u.clone(),
+            f: self.f.clone(),
+            internal: self.internal.clone(),
+            load: self.load,
+            prescribed: self.prescribed.clone(),
+            springs: self
+                .contact
+                .as_ref()
+                .map(|c| c.active.iter().map(SpringState::from).collect()),
+            newton: match &self.solver {
+                Solver::Newton(n) => Some(n.checkpoint()),
+                Solver::Linear { .. } => None,
+            },
+            work: self.work,
+        }
+    }
+
+    /// The topology a state was taken of: built again for its cut and material, then the
+    /// equilibrium, springs and solver put back.
+    pub fn resume(
+        g: &Geometry,
+        state: &TopologyState,
+        kind: Tetrahedron,
+        settings: Settings,
+    ) -> Result<Self, SceneError> {
+        let elastic = Elastic::new("saved", state.young, state.poisson)?;
+        let material = Material::new(Law::parse(&state.law)?, elastic);
+        let mut t = Self::build(g, state.cut_cells, material, kind, settings)?;
+        let n = t.u.len();
+        for (name, v) in [
+            ("u", &state.u),
+            ("f", &state.f),
+            ("internal", &state.internal),
+        ] {
+            if v.len() != n {
+                return Err(SceneError::Config(format!(
+                    "the saved `{name}` has {} values, the rebuilt topology {n}",
+                    v.len()
+                )));
+            }
+        }
+        t.u.clone_from(&state.u);
+        t.f.clone_from(&state.f);
+        t.internal.clone_from(&state.internal);
+        t.load = state.load;
+        t.prescribed.clone_from(&state.prescribed);
+        if let (Some(c), Some(springs)) = (&mut t.contact, &state.springs) {
+            c.active = springs.iter().map(Spring::from).collect();
+        }
+        t.factorize()?;
+        if let (Solver::Newton(n), Some(checkpoint)) = (&mut t.solver, &state.newton) {
+            let mut eq = Equilibrium {
+                solid: &t.solid,
+                asm: &t.asm,
+                contact: t.contact.as_ref(),
+                penalty: PENALTY_FACTOR * t.solid.material.elastic.young() * t.layer,
+            };
+            n.resume(&mut eq, checkpoint)?;
+        }
+        t.work = state.work;
         Ok(t)
     }
 
