@@ -11,6 +11,7 @@ use std::sync::Arc;
 
 use crate::instance::{Call, Instance, Log, Status};
 use crate::model::Version;
+use crate::state::FmuState;
 
 /// Reads a C string; `None` for null or invalid UTF-8.
 ///
@@ -314,6 +315,154 @@ pub fn unsupported(c: *mut c_void, function: &str) -> c_int {
             Status::Error,
             &format!("{function} is not supported (see the model description's capability flags)"),
         )
+    })
+}
+
+/// `…GetFMUState`: the instance's state into `*slot` — a new one if `*slot` is null, else
+/// over the state `*slot` holds (FMI 2 allows the importer to pass one back for reuse).
+///
+/// # Safety
+/// `slot` is null or points to null or to a state from this library, not freed.
+pub unsafe fn get_state(c: *mut c_void, function: &str, slot: *mut *mut c_void) -> c_int {
+    guard(c, Some((Call::State, function)), |i| {
+        let Some(slot) = (unsafe { slot.as_mut() }) else {
+            return i.error(
+                Status::Error,
+                &format!("{function}: the state pointer is null"),
+            );
+        };
+        unsafe { store(slot, i.get_state()) };
+        Status::Ok
+    })
+}
+
+/// Puts `state` into `*slot`: a new allocation if it is null, else over the state it holds.
+///
+/// # Safety
+/// `*slot` is null or a state from this library, not freed.
+unsafe fn store(slot: &mut *mut c_void, state: FmuState) {
+    match unsafe { (*slot as *mut FmuState).as_mut() } {
+        Some(old) => *old = state,
+        None => *slot = Box::into_raw(Box::new(state)).cast(),
+    }
+}
+
+/// `…SetFMUState`.
+///
+/// # Safety
+/// `state` is null or a state from this library, not freed.
+pub unsafe fn set_state(c: *mut c_void, function: &str, state: *mut c_void) -> c_int {
+    guard(c, Some((Call::State, function)), |i| {
+        match unsafe { (state as *const FmuState).as_ref() } {
+            Some(state) => i.set_state(state),
+            None => i.error(Status::Error, &format!("{function}: the state is null")),
+        }
+    })
+}
+
+/// `…FreeFMUState`: frees `*slot` (null is fine) and sets it to null.
+///
+/// # Safety
+/// `slot` is null or points to null or to a state from this library, not freed.
+pub unsafe fn free_state(c: *mut c_void, function: &str, slot: *mut *mut c_void) -> c_int {
+    guard(c, Some((Call::State, function)), |_| {
+        if let Some(slot) = unsafe { slot.as_mut() } {
+            if !slot.is_null() {
+                drop(unsafe { Box::from_raw(*slot as *mut FmuState) });
+                *slot = std::ptr::null_mut();
+            }
+        }
+        Status::Ok
+    })
+}
+
+/// `…SerializedFMUStateSize`.
+///
+/// # Safety
+/// `state` is null or a state from this library; `size` is null or writable.
+pub unsafe fn state_size(
+    c: *mut c_void,
+    function: &str,
+    state: *mut c_void,
+    size: *mut usize,
+) -> c_int {
+    guard(c, Some((Call::State, function)), |i| {
+        let (Some(state), Some(size)) = (unsafe { (state as *const FmuState).as_ref() }, unsafe {
+            size.as_mut()
+        }) else {
+            return i.error(Status::Error, &format!("{function}: a null argument"));
+        };
+        match i.serialize(state) {
+            Ok(bytes) => {
+                *size = bytes.len();
+                Status::Ok
+            }
+            Err(status) => status,
+        }
+    })
+}
+
+/// `…SerializeFMUState`: the serialized state into `buffer` of exactly its size.
+///
+/// # Safety
+/// `state` is null or a state from this library; `buffer` is null or holds `size` bytes.
+pub unsafe fn serialize_state(
+    c: *mut c_void,
+    function: &str,
+    state: *mut c_void,
+    buffer: *mut u8,
+    size: usize,
+) -> c_int {
+    guard(c, Some((Call::State, function)), |i| {
+        let (Some(state), Some(buffer)) =
+            (unsafe { (state as *const FmuState).as_ref() }, unsafe {
+                slice_mut(buffer, size)
+            })
+        else {
+            return i.error(Status::Error, &format!("{function}: a null argument"));
+        };
+        match i.serialize(state) {
+            Ok(bytes) if bytes.len() == size => {
+                buffer.copy_from_slice(bytes);
+                Status::Ok
+            }
+            Ok(bytes) => {
+                let message = format!(
+                    "{function}: the buffer holds {size} bytes, the state needs {}",
+                    bytes.len()
+                );
+                i.error(Status::Error, &message)
+            }
+            Err(status) => status,
+        }
+    })
+}
+
+/// `…DeserializeFMUState`: the state in `size` bytes into `*slot` (new if it is null, else
+/// over the state it holds).
+///
+/// # Safety
+/// `buffer` is null or holds `size` bytes; `slot` is null or points to null or to a state
+/// from this library, not freed.
+pub unsafe fn deserialize_state(
+    c: *mut c_void,
+    function: &str,
+    buffer: *const u8,
+    size: usize,
+    slot: *mut *mut c_void,
+) -> c_int {
+    guard(c, Some((Call::State, function)), |i| {
+        let (Some(bytes), Some(slot)) = (unsafe { slice(buffer, size) }, unsafe { slot.as_mut() })
+        else {
+            return i.error(Status::Error, &format!("{function}: a null argument"));
+        };
+        match i.deserialize(bytes) {
+            Ok(state) => {
+                unsafe { store(slot, state) };
+                Status::Ok
+            }
+            Err(status) => status,
+        }
     })
 }
 

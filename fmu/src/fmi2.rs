@@ -312,22 +312,22 @@ pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
 /// # Safety
 /// FMI 2.0 contract.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, _s: *mut fmi2FMUstate) -> fmi2Status {
-    ffi::unsupported(c, "fmi2GetFMUstate")
+pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, s: *mut fmi2FMUstate) -> fmi2Status {
+    unsafe { ffi::get_state(c, "fmi2GetFMUstate", s) }
 }
 
 /// # Safety
 /// FMI 2.0 contract.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, _s: fmi2FMUstate) -> fmi2Status {
-    ffi::unsupported(c, "fmi2SetFMUstate")
+pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, s: fmi2FMUstate) -> fmi2Status {
+    unsafe { ffi::set_state(c, "fmi2SetFMUstate", s) }
 }
 
 /// # Safety
 /// FMI 2.0 contract.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi2FreeFMUstate(c: fmi2Component, _s: *mut fmi2FMUstate) -> fmi2Status {
-    ffi::unsupported(c, "fmi2FreeFMUstate")
+pub unsafe extern "C" fn fmi2FreeFMUstate(c: fmi2Component, s: *mut fmi2FMUstate) -> fmi2Status {
+    unsafe { ffi::free_state(c, "fmi2FreeFMUstate", s) }
 }
 
 /// # Safety
@@ -335,10 +335,10 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(c: fmi2Component, _s: *mut fmi2FMUstat
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     c: fmi2Component,
-    _s: fmi2FMUstate,
-    _n: *mut usize,
+    s: fmi2FMUstate,
+    n: *mut usize,
 ) -> fmi2Status {
-    ffi::unsupported(c, "fmi2SerializedFMUstateSize")
+    unsafe { ffi::state_size(c, "fmi2SerializedFMUstateSize", s, n) }
 }
 
 /// # Safety
@@ -346,11 +346,11 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SerializeFMUstate(
     c: fmi2Component,
-    _s: fmi2FMUstate,
-    _b: *mut c_char,
-    _n: usize,
+    s: fmi2FMUstate,
+    b: *mut c_char,
+    n: usize,
 ) -> fmi2Status {
-    ffi::unsupported(c, "fmi2SerializeFMUstate")
+    unsafe { ffi::serialize_state(c, "fmi2SerializeFMUstate", s, b.cast(), n) }
 }
 
 /// # Safety
@@ -358,11 +358,11 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     c: fmi2Component,
-    _b: *const c_char,
-    _n: usize,
-    _s: *mut fmi2FMUstate,
+    b: *const c_char,
+    n: usize,
+    s: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    ffi::unsupported(c, "fmi2DeSerializeFMUstate")
+    unsafe { ffi::deserialize_state(c, "fmi2DeSerializeFMUstate", b.cast(), n, s) }
 }
 
 /// # Safety

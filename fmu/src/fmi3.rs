@@ -17,6 +17,7 @@ pub type fmi3InstanceEnvironment = *mut c_void;
 pub type fmi3ValueReference = c_uint;
 pub type fmi3Float64 = f64;
 pub type fmi3Boolean = bool;
+pub type fmi3FMUState = *mut c_void;
 pub type fmi3String = *const c_char;
 pub type fmi3Status = c_int;
 
@@ -304,8 +305,64 @@ no_variables!(
     fmi3SetBinary: Set,
 );
 
+/// # Safety
+/// FMI 3.0 contract.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi3GetFMUState(c: fmi3Instance, s: *mut fmi3FMUState) -> fmi3Status {
+    unsafe { ffi::get_state(c, "fmi3GetFMUState", s) }
+}
+
+/// # Safety
+/// FMI 3.0 contract.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi3SetFMUState(c: fmi3Instance, s: fmi3FMUState) -> fmi3Status {
+    unsafe { ffi::set_state(c, "fmi3SetFMUState", s) }
+}
+
+/// # Safety
+/// FMI 3.0 contract.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi3FreeFMUState(c: fmi3Instance, s: *mut fmi3FMUState) -> fmi3Status {
+    unsafe { ffi::free_state(c, "fmi3FreeFMUState", s) }
+}
+
+/// # Safety
+/// FMI 3.0 contract.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi3SerializedFMUStateSize(
+    c: fmi3Instance,
+    s: fmi3FMUState,
+    n: *mut usize,
+) -> fmi3Status {
+    unsafe { ffi::state_size(c, "fmi3SerializedFMUStateSize", s, n) }
+}
+
+/// # Safety
+/// FMI 3.0 contract.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi3SerializeFMUState(
+    c: fmi3Instance,
+    s: fmi3FMUState,
+    b: *mut u8,
+    n: usize,
+) -> fmi3Status {
+    unsafe { ffi::serialize_state(c, "fmi3SerializeFMUState", s, b, n) }
+}
+
+/// # Safety
+/// FMI 3.0 contract.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi3DeserializeFMUState(
+    c: fmi3Instance,
+    b: *const u8,
+    n: usize,
+    s: *mut fmi3FMUState,
+) -> fmi3Status {
+    unsafe { ffi::deserialize_state(c, "fmi3DeserializeFMUState", b, n, s) }
+}
+
 /// Exports `fmi3<name>` for the functions of capabilities these FMUs do not have (clocks,
-/// FMU state, derivatives, events, model exchange). Each reports an error through the
+/// derivatives, events, model exchange). Each reports an error through the
 /// logger. They read only their first argument, the instance: with the C calling
 /// convention the remaining arguments are the caller's to clean up.
 macro_rules! unsupported {
@@ -327,12 +384,6 @@ unsupported!(
     fmi3SetClock,
     fmi3GetNumberOfVariableDependencies,
     fmi3GetVariableDependencies,
-    fmi3GetFMUState,
-    fmi3SetFMUState,
-    fmi3FreeFMUState,
-    fmi3SerializedFMUStateSize,
-    fmi3SerializeFMUState,
-    fmi3DeserializeFMUState,
     fmi3GetDirectionalDerivative,
     fmi3GetAdjointDerivative,
     fmi3EnterConfigurationMode,

@@ -20,6 +20,7 @@ use std::sync::Arc;
 use models::scene::{seconds, Causality, ErrorKind, Scene, SceneError, Variable, VariableKind};
 
 use crate::model::{Model, Version};
+use crate::state::{FmuState, InstanceState};
 
 /// Call status, shared by FMI 2 and FMI 3 (same codes 0–4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -32,7 +33,7 @@ pub enum Status {
 }
 
 /// Where the instance is in its life cycle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Phase {
     Instantiated,
     Initialization,
@@ -54,6 +55,8 @@ pub enum Call {
     Terminate,
     Reset,
     SetDebugLogging,
+    /// Getting, setting, freeing, serializing and deserializing FMU states.
+    State,
 }
 
 impl Call {
@@ -72,7 +75,7 @@ impl Call {
             }
             Call::DoStep => phase == Step,
             Call::Terminate => matches!(phase, Step | Error),
-            Call::Reset | Call::SetDebugLogging => true,
+            Call::Reset | Call::SetDebugLogging | Call::State => true,
         }
     }
 }
@@ -422,6 +425,65 @@ impl Instance {
     pub fn terminate(&mut self) -> Status {
         self.phase = Phase::Terminated;
         Status::Ok
+    }
+
+    /// The instance's state now (FMU state): phase, times and the scene's state.
+    pub fn get_state(&self) -> FmuState {
+        FmuState::new(
+            self.model.identifier,
+            InstanceState {
+                phase: self.phase,
+                built: self.built,
+                failure: self.failure.clone(),
+                start_time: self.start_time,
+                stop_time: self.stop_time,
+                time: self.time,
+            },
+            self.scene.save(),
+        )
+    }
+
+    /// Puts a state back (into this instance or another of the same model); the instance
+    /// then continues as the one the state was taken from. A state of another model, or one
+    /// the scene refuses, is an error and changes nothing.
+    pub fn set_state(&mut self, state: &FmuState) -> Status {
+        if state.model != self.model.identifier {
+            let message = format!(
+                "an FMU state of the `{}` model cannot be set in a `{}` instance",
+                state.model, self.model.identifier
+            );
+            return self.error(Status::Error, &message);
+        }
+        if let Err(e) = self.scene.restore(&state.scene) {
+            return self.error(
+                Status::Error,
+                &format!("the FMU state could not be set: {e}"),
+            );
+        }
+        let s = &state.instance;
+        self.phase = s.phase;
+        self.built = s.built;
+        self.failure.clone_from(&s.failure);
+        self.start_time = s.start_time;
+        self.stop_time = s.stop_time;
+        self.time = s.time;
+        Status::Ok
+    }
+
+    /// The serialized form of `state` (see [`crate::state`]).
+    pub fn serialize<'s>(&mut self, state: &'s FmuState) -> Result<&'s [u8], Status> {
+        state
+            .bytes(self.model)
+            .map_err(|m| self.error(Status::Error, &m))
+    }
+
+    /// A state from serialized bytes, refused with the reason if they are not a state of
+    /// this model and build.
+    pub fn deserialize(&mut self, bytes: &[u8]) -> Result<FmuState, Status> {
+        FmuState::from_bytes(self.model, bytes).map_err(|m| {
+            let message = format!("the serialized FMU state is refused: {m}");
+            self.error(Status::Error, &message)
+        })
     }
 
     /// Back to the state after instantiation: a fresh scene with start values.

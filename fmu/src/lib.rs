@@ -19,5 +19,6 @@ pub mod fmi2;
 pub mod fmi3;
 pub mod instance;
 pub mod model;
+pub mod state;
 pub mod uri;
 pub mod xml;

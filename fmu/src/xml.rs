@@ -134,7 +134,7 @@ pub fn fmi2(model: &Model) -> String {
     let mut s = header(model, "2.0", "guid");
     let _ = writeln!(
         s,
-        r#"  <CoSimulation modelIdentifier="{}" canHandleVariableCommunicationStepSize="true" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="false" canSerializeFMUstate="false"/>"#,
+        r#"  <CoSimulation modelIdentifier="{}" canHandleVariableCommunicationStepSize="true" canNotUseMemoryManagementFunctions="true" canGetAndSetFMUstate="true" canSerializeFMUstate="true"/>"#,
         model.identifier
     );
     s += &units(vars, &[], false);
@@ -194,7 +194,7 @@ pub fn fmi3(model: &Model) -> String {
     let mut s = header(model, "3.0", "instantiationToken");
     let _ = writeln!(
         s,
-        r#"  <CoSimulation modelIdentifier="{}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUState="false" canSerializeFMUState="false" hasEventMode="false" providesIntermediateUpdate="false"/>"#,
+        r#"  <CoSimulation modelIdentifier="{}" canHandleVariableCommunicationStepSize="true" canGetAndSetFMUState="true" canSerializeFMUState="true" hasEventMode="false" providesIntermediateUpdate="false"/>"#,
         model.identifier
     );
     s += &units(vars, &["s"], true); // `s` is the unit of `time`

@@ -174,13 +174,14 @@ fn a_logger_may_call_back_into_the_instance() {
 #[test]
 fn capability_flags_are_honoured() {
     let xml = fmu::xml::fmi3(&MODELS[1]);
-    assert!(xml.contains(r#"canHandleVariableCommunicationStepSize="true""#));
     for flag in [
+        "canHandleVariableCommunicationStepSize",
         "canGetAndSetFMUState",
         "canSerializeFMUState",
-        "hasEventMode",
-        "providesIntermediateUpdate",
     ] {
+        assert!(xml.contains(&format!(r#"{flag}="true""#)), "{flag}");
+    }
+    for flag in ["hasEventMode", "providesIntermediateUpdate"] {
         assert!(xml.contains(&format!(r#"{flag}="false""#)), "{flag}");
     }
     let c = instantiate(false, null_mut(), None);
@@ -210,8 +211,13 @@ fn capability_flags_are_honoured() {
             t += h;
             assert_eq!(last, t);
         }
-        assert_eq!(fmi3GetFMUState(c), ERROR);
-        assert_eq!(fmi3SerializedFMUStateSize(c), ERROR);
+        let mut state: fmi3FMUState = null_mut();
+        assert_eq!(fmi3GetFMUState(c, &mut state), OK);
+        let mut size = 0;
+        assert_eq!(fmi3SerializedFMUStateSize(c, state, &mut size), OK);
+        assert!(size > 0);
+        assert_eq!(fmi3FreeFMUState(c, &mut state), OK);
+        assert!(state.is_null());
         assert_eq!(fmi3EnterEventMode(c), ERROR);
         assert_eq!(fmi3GetDirectionalDerivative(c), ERROR);
         fmi3FreeInstance(c);
