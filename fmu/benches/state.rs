@@ -1,6 +1,7 @@
 //! The cost of FMU states on the default models after a few steps (abdomen: 5 steps of
 //! 10 ms; cut block: full cut and 10 mm pull): taking one, serializing it, and setting it
-//! (which rebuilds the model from the saved values), with the serialized size printed.
+//! (which rebuilds the model from the saved values), with the serialized size printed; and,
+//! to weigh `set` against, reaching the same point from a new instance.
 //!
 //! Run: `cargo bench -p fmu --bench state`.
 
@@ -74,4 +75,10 @@ fn set(bencher: Bencher, m: usize) {
     let c = advanced(m);
     let s = state_of(c);
     bencher.bench_local(|| assert_eq!(unsafe { fmi2SetFMUstate(c, s) }, 0));
+}
+
+#[divan::bench(args = [0, 1], sample_count = 20)]
+fn reach(m: usize) {
+    let c = advanced(m);
+    unsafe { fmi2FreeInstance(c) };
 }

@@ -467,4 +467,22 @@ mod tests {
         assert!((other.e - 0.05).abs() > 1e-4, "E should move with ν");
         assert!(identify(&m, &model, Some(0.5), &|_, _| {}).is_err());
     }
+
+    /// Scans that lie off the block compare no point: an error, not a profile RMS of 0
+    /// that would call the fit noise-level.
+    #[test]
+    fn scans_that_compare_no_point_are_an_error() {
+        let model = Model::new("linear", "tet4");
+        let mut m = synthetic(&model, 0.05, 0.4);
+        for scan in &mut m.profiles {
+            for p in &mut scan.points {
+                p.0 += 1000.0;
+            }
+        }
+        let e = identify(&m, &model, Some(0.4), &|_, _| {}).unwrap_err();
+        assert!(
+            e.to_string().contains("no profile point could be compared"),
+            "{e}"
+        );
+    }
 }
