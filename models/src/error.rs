@@ -51,10 +51,12 @@ pub enum ModelError {
         expected: usize,
         got: usize,
     },
-    /// The system matrix is singular (a floating body or a missing support): the numerical
-    /// pivot of equation `equation` fell to `ratio` times its diagonal entry.
+    /// The system matrix is singular or not positive definite (a floating body, a missing
+    /// support, or a finite-strain tangent past a stability limit): the numerical pivot of
+    /// equation `equation` fell to `ratio` times its diagonal entry (0: not positive).
     #[error(
-        "singular system (floating body or missing support?): pivot of equation {equation} \
+        "singular or indefinite system (a floating body, a missing support, or at finite \
+         strain an unstable state such as folding or buckling): pivot of equation {equation} \
          (global dof {dof}) is {ratio:e} times its diagonal entry"
     )]
     Singular {

@@ -155,7 +155,7 @@ pub fn block(size: [f64; 3], cells: [usize; 3]) -> Result<Mesh3d, ModelError> {
             .map(|i| size[d] * i as f64 / cells[d] as f64)
             .collect()
     });
-    block_on_planes(&planes)
+    block_on_planes(&planes, false)
 }
 
 /// Memory of a block mesh with `n` node planes per axis and of its assembled system,
@@ -174,8 +174,11 @@ fn block_bytes(n: [usize; 3]) -> usize {
 }
 
 /// Like [`block`], but on arbitrary (strictly increasing) node planes per axis, so that a
-/// caller can place a node plane exactly where it needs one (a cut plane, a cut depth).
-pub fn block_on_planes(planes: &[Vec<f64>; 3]) -> Result<Mesh3d, ModelError> {
+/// caller can place a node plane exactly where it needs one (a cut plane, a cut depth), and
+/// with every cube's split mirrored if `mirrored` (cube (i, j, k) mirrored when
+/// i + j + k + `mirrored` is odd), so that a caller that adds a plane can keep the split of
+/// the cubes beyond it.
+pub fn block_on_planes(planes: &[Vec<f64>; 3], mirrored: bool) -> Result<Mesh3d, ModelError> {
     for (d, p) in planes.iter().enumerate() {
         if p.len() < 2 || !p.windows(2).all(|w| w[1] > w[0]) {
             return Err(ModelError::InvalidParameter {
@@ -200,7 +203,7 @@ pub fn block_on_planes(planes: &[Vec<f64>; 3]) -> Result<Mesh3d, ModelError> {
     for k in 0..n[2] - 1 {
         for j in 0..n[1] - 1 {
             for i in 0..n[0] - 1 {
-                let flip = (i + j + k) % 2;
+                let flip = (i + j + k + usize::from(mirrored)) % 2;
                 let corner = |c: usize| {
                     let c = c ^ flip;
                     id(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))

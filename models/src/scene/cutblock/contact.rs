@@ -58,6 +58,14 @@ pub struct Spring {
     pub g0: f64,
 }
 
+/// What a solve changes in the contact: the springs and what the last detection found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Held {
+    pub active: Vec<Spring>,
+    pub penetration: f64,
+    pub deepest: Option<usize>,
+}
+
 /// Flank contact of one cut topology.
 #[derive(Debug)]
 pub struct FlankContact {
@@ -93,6 +101,20 @@ impl Deepest {
 }
 
 impl FlankContact {
+    /// The springs and the last detection's result, to put back with [`Self::hold`].
+    pub fn held(&self) -> Held {
+        Held {
+            active: self.active.clone(),
+            penetration: self.penetration,
+            deepest: self.deepest,
+        }
+    }
+
+    pub fn hold(&mut self, held: &Held) {
+        self.active.clone_from(&held.active);
+        (self.penetration, self.deepest) = (held.penetration, held.deepest);
+    }
+
     /// Contact of the flank `facets` (triangles of flank nodes, outward), for the facing
     /// node pairs `flank_pairs`; `first_element` is the assembler index of the first
     /// candidate element. `None` if there are no flank facets.

@@ -1,8 +1,9 @@
 //! The cut block's geometry: the block's node planes (graded so that the cut plane and the
-//! crack front are node planes), the uncut mesh, and the incision the scalpel makes.
+//! cut bottom are node planes), and the mesh of the block cut up to a crack front at any x
+//! (a node plane put there, [`Geometry::x_planes`]).
 
 use crate::mesh::cut::{self, CutMesh, Incision};
-use crate::mesh::{generate, Mesh3d};
+use crate::mesh::generate;
 use crate::scene::SceneError;
 
 /// How the incision is made (seed 002 §1.4 / §3.4).
@@ -58,12 +59,14 @@ pub struct Options {
     pub contact: bool,
 }
 
-/// The uncut block and where the incision can go.
+/// The block, its node planes and where the incision can go.
 #[derive(Debug, Clone)]
 pub struct Geometry {
     pub size: [f64; 3],
-    pub base: Mesh3d,
-    pub x_planes: Vec<f64>,
+    /// Cells along x (their planes follow the crack front, [`Self::x_planes`]), and the node
+    /// planes in y (one at y_cut) and z (one at the cut bottom).
+    cells_x: usize,
+    planes_yz: [Vec<f64>; 2],
     /// Incision plane and the bottom of the incision (z); `None` for depth 0.
     pub y_cut: f64,
     pub z_cut: Option<f64>,
@@ -115,6 +118,11 @@ fn layer_ratio(planes: &[f64], target: f64) -> f64 {
     below.min(above) / below.max(above)
 }
 
+/// The thinnest cell, as a fraction of the uniform cell, that the x planes around a crack
+/// front leave at the end faces (thinner cells would make the stiffness matrix
+/// ill-conditioned; see [`Geometry::x_planes`]).
+pub const SNAP: f64 = 1e-3;
+
 /// Below this ratio of adjacent layer thicknesses at the cut, the scene warns that the mesh
 /// there is too anisotropic for its results to be trusted.
 pub const SLIVER_RATIO: f64 = 0.25;
@@ -147,7 +155,6 @@ impl Geometry {
                 cells[2]
             )));
         }
-        let x_planes = graded(size[0], cells[0], None);
         let y_planes = graded(size[1], cells[1], Some(y_cut));
         let z_planes = graded(size[2], cells[2], z_cut);
         let at = y_planes
@@ -172,48 +179,87 @@ impl Geometry {
                 }
             }
         }
-        let base = generate::block_on_planes(&[x_planes.clone(), y_planes.clone(), z_planes])?;
         Ok(Self {
             size,
-            base,
-            x_planes,
+            layer: y_cut - y_planes[at - 1],
+            cells_x: cells[0],
+            planes_yz: [y_planes, z_planes],
             y_cut,
             z_cut,
-            layer: y_cut - y_planes[at - 1],
             press_radius,
             options,
             warnings,
         })
     }
 
-    /// Whole x-cells behind the scalpel at `x` (0 without a cut).
-    pub fn cut_cells(&self, x: f64) -> usize {
-        if self.z_cut.is_none() {
-            return 0;
-        }
-        let tol = 1e-9 * self.size[0];
-        self.x_planes[1..]
-            .iter()
-            .take_while(|&&p| p <= x + tol)
-            .count()
+    /// The width of a cell along x (mm).
+    fn cell_x(&self) -> f64 {
+        self.size[0] / self.cells_x as f64
     }
 
-    /// The base mesh cut by `cells` x-cells.
-    pub fn cut(&self, cells: usize) -> Result<CutMesh, SceneError> {
-        let (Some(z0), true) = (self.z_cut, cells > 0) else {
+    /// Where the incision ends when the blade has reached `x` at the furthest: `x` clamped
+    /// to the block, within [`SNAP`] of a cell of an end face taken as that face; 0 without
+    /// a cut depth.
+    pub fn front(&self, x: f64) -> f64 {
+        let (l, snap) = (self.size[0], SNAP * self.cell_x());
+        if self.z_cut.is_none() || x < snap {
+            0.0
+        } else if x > l - snap {
+            l
+        } else {
+            x
+        }
+    }
+
+    /// The x node planes of the mesh cut up to `front` (a value of [`Self::front`]): the
+    /// uniform grid of cell width h slid along x so that a plane lies at the front, planes
+    /// at front + k h for every whole k that leaves at least [`SNAP`] h to the end faces,
+    /// and the end faces. Around the front the mesh is the same wherever the front is, so
+    /// the tip is resolved alike at every blade position and the outputs change smoothly
+    /// with it; the cells at the end faces grow and shrink, and a cell appears or vanishes
+    /// there (a cell of width δ → 0 ties its two planes together, which is the mesh
+    /// without it). With the front at 0 or at the far end the planes are the uniform ones.
+    ///
+    /// Also returns whether the cubes' split must be mirrored so that the cube just ahead
+    /// of the front is split alike at every blade position (and as the uniform block's
+    /// first cube when the front is at the far end).
+    pub fn x_planes(&self, front: f64) -> (Vec<f64>, bool) {
+        let (l, h) = (self.size[0], self.cell_x());
+        let n = self.cells_x as i64;
+        let mut planes = vec![0.0];
+        planes.extend(
+            (-n..=n)
+                .map(|k| front + k as f64 * h)
+                .filter(|&x| x >= SNAP * h && x <= l - SNAP * h),
+        );
+        planes.push(l);
+        planes.dedup();
+        let at = planes
+            .iter()
+            .position(|&x| x == front)
+            .expect("the front is a plane");
+        (planes, (self.cells_x + at) % 2 == 1)
+    }
+
+    /// The block meshed with a node plane at `front` and cut up to it.
+    pub fn cut(&self, front: f64) -> Result<CutMesh, SceneError> {
+        let [y, z] = &self.planes_yz;
+        let (x, mirrored) = self.x_planes(front);
+        let mesh = generate::block_on_planes(&[x, y.clone(), z.clone()], mirrored)?;
+        let (Some(z0), true) = (self.z_cut, front > 0.0) else {
             return Ok(CutMesh {
-                mesh: self.base.clone(),
+                mesh,
                 flank_pairs: vec![],
             });
         };
         let incision = Incision {
             y: self.y_cut,
-            x: (0.0, self.x_planes[cells]),
+            x: (0.0, front),
             z: (z0, self.size[2]),
         };
         Ok(match self.options.strategy {
-            Strategy::Duplicate => cut::split(&self.base, &incision)?,
-            Strategy::Delete => cut::delete(&self.base, &incision, self.layer)?,
+            Strategy::Duplicate => cut::split(&mesh, &incision)?,
+            Strategy::Delete => cut::delete(&mesh, &incision, self.layer)?,
         })
     }
 }
@@ -239,5 +285,53 @@ mod tests {
         assert_eq!((p[0], p[1]), (0.0, 0.1));
         assert!(layer_ratio(&p, 0.1) < SLIVER_RATIO);
         assert_eq!(graded(10.0, 4, None), [0.0, 2.5, 5.0, 7.5, 10.0]);
+    }
+
+    /// Wherever the front is, a plane lies on it, the cells within the block around it are
+    /// h wide, the cells at the end faces at least SNAP h and at most (1 + SNAP) h, the cube just
+    /// ahead of it is split alike; at 0 and at the far face the planes are the uniform ones.
+    #[test]
+    fn x_planes_follow_the_front_with_the_grid_around_it() {
+        let options = Options {
+            strategy: Strategy::Duplicate,
+            support: Support::Clamped,
+            contact: true,
+        };
+        let g = Geometry::new([100.0, 80.0, 17.0], [6, 16, 14], 45.0, 8.5, 5.0, options).unwrap();
+        let h = 100.0 / 6.0;
+        let uniform: Vec<f64> = (0..=6).map(|i| 100.0 * f64::from(i) / 6.0).collect();
+        for front in [0.0, 100.0] {
+            let (p, mirrored) = g.x_planes(front);
+            assert!(!mirrored);
+            assert!(
+                p.iter().zip(&uniform).all(|(a, b)| (a - b).abs() < 1e-12),
+                "{p:?}"
+            );
+        }
+        let mut split = None;
+        for k in 1..2000 {
+            let front = g.front(0.05 * f64::from(k));
+            let (p, mirrored) = g.x_planes(front);
+            let at = p
+                .iter()
+                .position(|&x| x == front)
+                .expect("a plane at the front");
+            for w in p.windows(2) {
+                let width = w[1] - w[0];
+                let inner = w[0] > 0.0 && w[1] < 100.0;
+                assert!(
+                    width >= SNAP * h && width <= h * (1.0 + SNAP) + 1e-9,
+                    "front {front}: {p:?}"
+                );
+                assert!(!inner || (width - h).abs() < 1e-9, "front {front}: {p:?}");
+            }
+            if at + 1 < p.len() {
+                let parity = (at + usize::from(mirrored)) % 2;
+                assert_eq!(*split.get_or_insert(parity), parity, "front {front}");
+            }
+        }
+        assert_eq!(g.front(1e-3 * h * 0.9), 0.0);
+        assert_eq!(g.front(100.0 - 1e-3 * h * 0.9), 100.0);
+        assert_eq!(g.front(250.0), 100.0);
     }
 }

@@ -1,14 +1,16 @@
 //! The cut-block scene (seed 002): a silicone block of tetrahedra (mirrored cubes, 5
 //! tetrahedra each, §3.1; linear or quadratic), clamped at y = 0 and pulled in y at y = L
 //! (§2.1), pressed by a force on the top surface at the scalpel tip, with a straight incision
-//! in the plane y = y_cut from the top down to a depth, growing in x with the scalpel (§3.4).
+//! in the plane y = y_cut from the top down to a depth, growing in x with the scalpel (§3.4):
+//! it ends where the blade is (a node plane is put there) and never heals — withdrawing the
+//! blade leaves it as long as the furthest the blade has been.
 //! Quasi-static: every step solves equilibrium for the current inputs (§3.3), with a linear
 //! (small-strain) or a finite-strain material law (neo-Hookean, St. Venant–Kirchhoff).
 //!
 //! What a step costs depends on what changed. Linear law: loads only → one solve with the
 //! existing factorization; E or ν → reassembly and numeric refactorization. Finite strain:
 //! Newton's method from the last equilibrium in increments of at most `max_increment` of
-//! pull. Either law: the cut grew by a cell → a new mesh, pattern, symbolic analysis.
+//! pull. Either law: the cut grew → a new mesh, pattern, symbolic analysis.
 //!
 //! Where the model stops being valid, it says so once per run (see
 //! [`Scene::take_warnings`]): the linear law beyond 5 % principal strain
@@ -240,30 +242,32 @@ impl CutBlock {
         let material = self.material()?;
         let settings = self.settings();
         let kind = Tetrahedron::parse(self.values.string(ELEMENT)?)?;
-        let cells = geometry.cut_cells(self.values.real(SCALPEL));
+        let (pull, press, scalpel) = (
+            self.values.real(PULL),
+            self.values.real(PRESS),
+            self.values.real(SCALPEL),
+        );
+        // The incision never heals: it reaches as far as the blade has been.
+        let reached = self.topology.as_ref().map_or(0.0, |t| t.front);
+        let front = geometry.front(scalpel.max(reached));
         match &mut self.topology {
-            Some(t) if t.cut_cells == cells => {
+            Some(t) if t.front == front => {
                 t.set_material(material)?;
                 t.set_max_increment(settings.max_increment)?;
+                t.solve(geometry, pull, press, scalpel)?;
             }
             slot => {
-                // Built aside first: on error the last good topology and state stay.
+                // Built and solved aside: on error the last good topology and state stay.
                 let limit = megabytes(self.values.real(MEMORY_LIMIT));
-                let built = budget::within(limit, || {
-                    Topology::build(geometry, cells, material, kind, settings)
+                let mut built = budget::within(limit, || {
+                    Topology::build(geometry, front, material, kind, settings)
                 })?;
+                built.solve(geometry, pull, press, scalpel)?;
                 let old = slot.replace(built).map(|t| t.work);
                 self.work = self.work.add(old.unwrap_or_default());
                 self.work.topology_builds += 1;
             }
         }
-        let topology = self.topology.as_mut().expect("built above");
-        topology.solve(
-            geometry,
-            self.values.real(PULL),
-            self.values.real(PRESS),
-            self.values.real(SCALPEL),
-        )?;
         self.work.solves += 1;
         self.outputs = None;
         self.check_strain();

@@ -21,7 +21,7 @@ impl Outputs {
             bottom_lift(g, t),
             x_contraction(g, t),
             von_mises,
-            g.x_planes[t.cut_cells],
+            t.front,
             t.contact.as_ref().map_or(0.0, |c| c.active.len() as f64),
             t.contact.as_ref().map_or(0.0, |c| c.penetration),
             strain,

@@ -12,7 +12,7 @@
 //! polyline covers the station (the open cut), the higher one where both do.
 
 use super::geometry::Geometry;
-use super::topology::face_traction;
+use crate::assembly::loads;
 use crate::element::tri6;
 use crate::mesh::{Mesh3d, QuadraticMesh};
 
@@ -52,14 +52,18 @@ impl TopSurface {
             .map(|f| f.nodes)
             .filter(|f| f.iter().all(|&n| (p[n][2] - top).abs() <= tol))
             .collect();
-        let mut y_planes: Vec<f64> = p
-            .iter()
-            .filter(|q| (q[2] - top).abs() <= tol)
-            .map(|q| q[1])
-            .collect();
-        y_planes.sort_by(f64::total_cmp);
-        y_planes.dedup();
-        let (nx, ny) = (g.x_planes.len() - 1, y_planes.len() - 1);
+        let planes = |d: usize| {
+            let mut v: Vec<f64> = p
+                .iter()
+                .filter(|q| (q[2] - top).abs() <= tol)
+                .map(|q| q[d])
+                .collect();
+            v.sort_by(f64::total_cmp);
+            v.dedup();
+            v
+        };
+        let (x_planes, y_planes) = (planes(0), planes(1));
+        let (nx, ny) = (x_planes.len() - 1, y_planes.len() - 1);
         let mut cells = vec![Vec::new(); nx * ny];
         let cell = |planes: &[f64], v: f64| {
             planes
@@ -71,7 +75,7 @@ impl TopSurface {
         for (k, f) in corners.iter().enumerate() {
             let c = |d: usize| f.iter().map(|&n| p[n][d]).sum::<f64>() / 3.0;
             let (cx, cy) = (c(0), c(1));
-            cells[cell(&g.x_planes, cx) * ny + cell(&y_planes, cy)].push(k);
+            cells[cell(&x_planes, cx) * ny + cell(&y_planes, cy)].push(k);
             front.push(cy < g.y_cut);
         }
         let faces = corners
@@ -85,7 +89,7 @@ impl TopSurface {
             faces,
             front,
             cells,
-            x_planes: g.x_planes.clone(),
+            x_planes,
             y_planes,
             top,
             y_cut: g.y_cut,
@@ -274,5 +278,24 @@ fn shape(l: &[f64; 3], quadratic: bool) -> [f64; 6] {
         tri6::shape(*l)
     } else {
         [a, b, c, 0.0, 0.0, 0.0]
+    }
+}
+
+/// Consistent loads of a uniform traction `t` (N/mm²) on a flat triangle: the linear one
+/// shares its force equally among the corners, the quadratic one gives it all to the
+/// mid-edge nodes, a third each (∫N dA of the 6-node triangle: 0 at corners, A/3 at mids).
+fn face_traction(nodes: &[[f64; 3]], face: &[usize], t: [f64; 3], f: &mut [f64]) {
+    match face {
+        [a, b, c] => loads::face_traction(nodes, [*a, *b, *c], t, f),
+        [a, b, c, ab, bc, ca] => {
+            let area =
+                crate::element::tet4::face_area_normal(&nodes[*a], &nodes[*b], &nodes[*c]).norm();
+            for &m in [ab, bc, ca] {
+                for d in 0..3 {
+                    f[3 * m + d] += t[d] * area / 3.0;
+                }
+            }
+        }
+        _ => unreachable!("triangles have 3 or 6 nodes"),
     }
 }

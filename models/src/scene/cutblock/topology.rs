@@ -16,12 +16,12 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::contact::{FlankContact, Spring, PENALTY_FACTOR, SLIDING_LIMIT};
+use super::contact::{FlankContact, Held, Spring, PENALTY_FACTOR, SLIDING_LIMIT};
 use super::geometry::{Geometry, Strategy, Support};
 use super::profiles::TopSurface;
 use super::Work;
 use crate::assembly::solid::{Body, Solid, Tetrahedron};
-use crate::assembly::{loads, mul_add, Assembler};
+use crate::assembly::{mul_add, Assembler};
 use crate::element::{Elastic, Law, Material};
 use crate::error::ModelError;
 use crate::mesh::cut::{self, CutMesh};
@@ -56,7 +56,8 @@ enum Solver {
 /// Everything that depends on the current cut.
 #[derive(Debug)]
 pub struct Topology {
-    pub cut_cells: usize,
+    /// Where the incision ends (x, mm; 0 uncut).
+    pub front: f64,
     pub solid: Solid,
     /// Node pairs facing each other across the cut (front flank, back flank), mid-edge
     /// nodes included.
@@ -77,9 +78,10 @@ pub struct Topology {
     pub internal: Vec<f64>,
     /// The prescribed displacements of the pulled face and the press force of `u`.
     load: (f64, f64),
-    /// Scratch: `u` at the start of a step (restored on failure), the prescribed values
-    /// (all dofs), and the linear law's loads with the springs' share.
-    saved: Vec<f64>,
+    /// Scratch: `u` and `internal` at the start of a step (restored on failure), the
+    /// prescribed values (all dofs), and the linear law's loads with the springs' share.
+    saved_u: Vec<f64>,
+    saved_internal: Vec<f64>,
     prescribed: Vec<f64>,
     loads: Vec<f64>,
     /// Factorizations, Newton increments and iterations since this topology was built.
@@ -91,7 +93,7 @@ pub struct Topology {
 /// equilibrium, the contact springs and the Newton solver's kept tangent.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TopologyState {
-    cut_cells: usize,
+    front: f64,
     law: String,
     young: f64,
     poisson: f64,
@@ -100,9 +102,37 @@ pub struct TopologyState {
     internal: Vec<f64>,
     load: (f64, f64),
     prescribed: Vec<f64>,
-    springs: Option<Vec<SpringState>>,
+    contact: Option<ContactState>,
     newton: Option<newton::Checkpoint>,
     work: Work,
+}
+
+/// The contact as a checkpoint holds it ([`Held`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+struct ContactState {
+    springs: Vec<SpringState>,
+    penetration: f64,
+    deepest: Option<usize>,
+}
+
+impl From<&Held> for ContactState {
+    fn from(h: &Held) -> Self {
+        Self {
+            springs: h.active.iter().map(SpringState::from).collect(),
+            penetration: h.penetration,
+            deepest: h.deepest,
+        }
+    }
+}
+
+impl From<&ContactState> for Held {
+    fn from(c: &ContactState) -> Self {
+        Self {
+            active: c.springs.iter().map(Spring::from).collect(),
+            penetration: c.penetration,
+            deepest: c.deepest,
+        }
+    }
 }
 
 /// A contact spring as a checkpoint holds it.
@@ -237,16 +267,16 @@ fn flank_facets(
 }
 
 impl Topology {
-    /// Cuts the base mesh by `cells` x-cells, checks that every body is supported, builds
-    /// the solid, the pattern and the solver, and factorizes the linear law's stiffness.
+    /// Meshes the block cut up to `front`, checks that every body is supported, builds the
+    /// solid, the pattern and the solver, and factorizes the linear law's stiffness.
     pub fn build(
         g: &Geometry,
-        cells: usize,
+        front: f64,
         material: Material,
         kind: Tetrahedron,
         settings: Settings,
     ) -> Result<Self, SceneError> {
-        let CutMesh { mesh, flank_pairs } = g.cut(cells)?;
+        let CutMesh { mesh, flank_pairs } = g.cut(front)?;
         check_supported(&mesh, mesh.node_sets().get("y0")?)?;
         let quadratic = (kind == Tetrahedron::Tet10).then(|| QuadraticMesh::new(&mesh));
         let solid = match &quadratic {
@@ -293,7 +323,7 @@ impl Topology {
             }
         };
         let mut t = Self {
-            cut_cells: cells,
+            front,
             solid,
             flank_pairs: facing,
             asm,
@@ -306,7 +336,8 @@ impl Topology {
             f: vec![0.0; n_dofs],
             internal: vec![0.0; n_dofs],
             load: (0.0, 0.0),
-            saved: vec![0.0; n_dofs],
+            saved_u: vec![0.0; n_dofs],
+            saved_internal: vec![0.0; n_dofs],
             prescribed: vec![0.0; n_dofs],
             loads: vec![0.0; n_dofs],
             work: Work::default(),
@@ -319,7 +350,7 @@ impl Topology {
     pub fn checkpoint(&self) -> TopologyState {
         let m = self.solid.material;
         TopologyState {
-            cut_cells: self.cut_cells,
+            front: self.front,
             law: m.law.name().into(),
             young: m.elastic.young(),
             poisson: m.elastic.poisson(),
@@ -328,10 +359,7 @@ impl Topology {
             internal: self.internal.clone(),
             load: self.load,
             prescribed: self.prescribed.clone(),
-            springs: self
-                .contact
-                .as_ref()
-                .map(|c| c.active.iter().map(SpringState::from).collect()),
+            contact: self.contact.as_ref().map(|c| ContactState::from(&c.held())),
             newton: match &self.solver {
                 Solver::Newton(n) => Some(n.checkpoint()),
                 Solver::Linear { .. } => None,
@@ -350,7 +378,7 @@ impl Topology {
     ) -> Result<Self, SceneError> {
         let elastic = Elastic::new("saved", state.young, state.poisson)?;
         let material = Material::new(Law::parse(&state.law)?, elastic);
-        let mut t = Self::build(g, state.cut_cells, material, kind, settings)?;
+        let mut t = Self::build(g, state.front, material, kind, settings)?;
         let n = t.u.len();
         for (name, v) in [
             ("u", &state.u),
@@ -369,8 +397,8 @@ impl Topology {
         t.internal.clone_from(&state.internal);
         t.load = state.load;
         t.prescribed.clone_from(&state.prescribed);
-        if let (Some(c), Some(springs)) = (&mut t.contact, &state.springs) {
-            c.active = springs.iter().map(Spring::from).collect();
+        if let (Some(c), Some(saved)) = (&mut t.contact, &state.contact) {
+            c.hold(&Held::from(saved));
         }
         t.factorize()?;
         if let (Solver::Newton(n), Some(checkpoint)) = (&mut t.solver, &state.newton) {
@@ -484,12 +512,13 @@ impl Topology {
                 });
             }
         }
-        self.saved.copy_from_slice(&self.u);
-        let (load, active) = (self.load, self.contact.as_ref().map(|c| c.active.clone()));
+        self.saved_u.copy_from_slice(&self.u);
+        self.saved_internal.copy_from_slice(&self.internal);
+        let (load, held) = (self.load, self.contact.as_ref().map(FlankContact::held));
         let mut result = self.settle(g, pull, press, scalpel_x);
         let mut parts = 2;
         while matches!(result, Err(SceneError::Slid { .. })) && parts <= CONTACT_PARTS {
-            self.back(g, load, &active, scalpel_x)?;
+            self.back(g, load, &held, scalpel_x)?;
             result = (1..=parts).try_for_each(|k| {
                 let s = k as f64 / parts as f64;
                 let at = |from: f64, to: f64| from + s * (to - from);
@@ -498,23 +527,24 @@ impl Topology {
             parts *= 2;
         }
         if result.is_err() {
-            self.back(g, load, &active, scalpel_x)?;
+            self.back(g, load, &held, scalpel_x)?;
         }
         result
     }
 
-    /// Back to the state saved at the start of [`Self::solve`]: displacements, springs,
-    /// loads and the solver.
+    /// Back to the state saved at the start of [`Self::solve`]: displacements, internal
+    /// forces, contact, loads and the solver.
     fn back(
         &mut self,
         g: &Geometry,
         load: (f64, f64),
-        active: &Option<Vec<Spring>>,
+        held: &Option<Held>,
         scalpel_x: f64,
     ) -> Result<(), SceneError> {
-        self.u.copy_from_slice(&self.saved);
-        if let (Some(c), Some(active)) = (&mut self.contact, active) {
-            c.active = active.clone();
+        self.u.copy_from_slice(&self.saved_u);
+        self.internal.copy_from_slice(&self.saved_internal);
+        if let (Some(c), Some(held)) = (&mut self.contact, held) {
+            c.hold(held);
         }
         self.restart(g, load, scalpel_x)
     }
@@ -659,23 +689,4 @@ fn check_supported(mesh: &Mesh3d, clamped: &[usize]) -> Result<(), SceneError> {
         });
     }
     Ok(())
-}
-
-/// Consistent loads of a uniform traction `t` (N/mm²) on a flat triangle: the linear one
-/// shares its force equally among the corners, the quadratic one gives it all to the
-/// mid-edge nodes, a third each (∫N dA of the 6-node triangle: 0 at corners, A/3 at mids).
-pub fn face_traction(nodes: &[[f64; 3]], face: &[usize], t: [f64; 3], f: &mut [f64]) {
-    match face {
-        [a, b, c] => loads::face_traction(nodes, [*a, *b, *c], t, f),
-        [a, b, c, ab, bc, ca] => {
-            let area =
-                crate::element::tet4::face_area_normal(&nodes[*a], &nodes[*b], &nodes[*c]).norm();
-            for &m in [ab, bc, ca] {
-                for d in 0..3 {
-                    f[3 * m + d] += t[d] * area / 3.0;
-                }
-            }
-        }
-        _ => unreachable!("triangles have 3 or 6 nodes"),
-    }
 }
