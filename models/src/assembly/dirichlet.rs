@@ -92,7 +92,6 @@ impl Dirichlet {
         })
     }
 
-    /// Number of free dofs (equations).
     /// Dofs of the full system.
     pub fn n_dofs(&self) -> usize {
         self.equation.len()
@@ -103,6 +102,7 @@ impl Dirichlet {
         self.full_nnz
     }
 
+    /// Number of free dofs (equations).
     pub fn n_free(&self) -> usize {
         self.free.len()
     }

@@ -14,7 +14,8 @@ pub mod solid;
 pub use dirichlet::Dirichlet;
 
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{Const, Matrix, SMatrix, SMatrixView, SVector, Storage};
+use rayon::prelude::*;
 
 /// Sparse pattern over all dofs and the element scatter map.
 #[derive(Debug, Clone)]
@@ -111,7 +112,12 @@ impl Assembler {
 
     /// Adds element matrix `ke` of element `element` into `values`.
     #[inline]
-    pub fn add<const N: usize>(&self, values: &mut [f64], element: usize, ke: &SMatrix<f64, N, N>) {
+    pub fn add<const N: usize, S: Storage<f64, Const<N>, Const<N>>>(
+        &self,
+        values: &mut [f64],
+        element: usize,
+        ke: &Matrix<f64, Const<N>, Const<N>, S>,
+    ) {
         let map = &self.scatter[self.offsets[element]..self.offsets[element + 1]];
         debug_assert_eq!(map.len(), N * N);
         for a in 0..N {
@@ -138,10 +144,31 @@ pub(crate) fn slot(symbolic: &SymbolicSparseColMat<usize>, row: usize, col: usiz
             .expect("pattern contains every element coupling")
 }
 
+/// Elements whose forces and tangents are computed together, in parallel, before they are
+/// added to the global arrays.
+const BLOCK: usize = 256;
+
+/// Fewer elements than this are assembled on the calling thread alone: rayon's hand-offs
+/// would cost more than they save, and its job queue allocates now and then, which the
+/// small systems' step loops must not (`models/tests/no_alloc.rs`).
+const PARALLEL_ELEMENTS: usize = 4 * BLOCK;
+
+thread_local! {
+    /// The element results of two blocks, kept between calls (grown, never shrunk).
+    static BLOCKS: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
 /// Adds the internal forces of `elements` at `u` (all dofs, node-major with D / N dofs per
 /// node) to `f` and their tangent to `k` (values on `asm`'s pattern, where they are the
-/// elements from `first` on), without zeroing either. `kernel(e, u_e, f_e, k_e)` adds element e's force
-/// and, when given, its tangent; an inverted element is reported with its index.
+/// elements from `first` on), without zeroing either. `kernel(e, u_e, f_e, k_e)` adds element
+/// e's force and, when given, its tangent; an inverted element is reported with its index.
+///
+/// The elements go in blocks of [`BLOCK`]: a block's kernels run on rayon's threads while
+/// the block before is added in element order (from [`PARALLEL_ELEMENTS`] elements on), so the sums, and the results, are the same
+/// bit for bit on any number of threads. The block results live in a per-thread buffer kept
+/// between calls (a call made while it is in use, e.g. from a task rayon runs while this
+/// one waits, uses a buffer of its own). Each kernel starts with a clean vector-register
+/// state ([`crate::solve::vector_state`]): rayon's threads also run faer's factorizations.
 pub fn add_internal<const N: usize, const D: usize>(
     elements: &[[usize; N]],
     first: usize,
@@ -149,34 +176,93 @@ pub fn add_internal<const N: usize, const D: usize>(
     u: &[f64],
     f: &mut [f64],
     mut k: Option<&mut [f64]>,
-    mut kernel: impl FnMut(
-        usize,
-        &SVector<f64, D>,
-        &mut SVector<f64, D>,
-        Option<&mut SMatrix<f64, D, D>>,
-    ) -> Result<(), crate::element::solid::Inverted>,
+    kernel: impl Fn(
+            usize,
+            &SVector<f64, D>,
+            &mut SVector<f64, D>,
+            Option<&mut SMatrix<f64, D, D>>,
+        ) -> Result<(), crate::element::solid::Inverted>
+        + Sync,
 ) -> Result<(), crate::error::ModelError> {
-    let dpn = D / N;
-    let mut ke = SMatrix::<f64, D, D>::zeros();
-    for (e, el) in elements.iter().enumerate() {
-        let ue = SVector::<f64, D>::from_fn(|row, _| u[dpn * el[row / dpn] + row % dpn]);
-        let mut fe = SVector::<f64, D>::zeros();
-        ke.fill(0.0);
-        let tangent = k.is_some().then_some(&mut ke);
-        kernel(e, &ue, &mut fe, tangent).map_err(|inv| crate::error::ModelError::Inverted {
-            element: e,
-            j: inv.j,
-        })?;
-        for (a, &n) in el.iter().enumerate() {
-            for i in 0..dpn {
-                f[dpn * n + i] += fe[dpn * a + i];
+    let tangent = k.is_some();
+    let stride = D + if tangent { D * D } else { 0 };
+    // Room for the tangents even when only forces are asked: the buffer grows once.
+    let need = 2 * BLOCK.min(elements.len()) * (D + D * D);
+    let parallel = elements.len() >= PARALLEL_ELEMENTS;
+    let compute = |start: usize, out: &mut [f64]| {
+        let end = (start + BLOCK).min(elements.len());
+        out[..(end - start) * stride]
+            .par_chunks_mut(stride)
+            .with_min_len(if parallel { 1 } else { usize::MAX })
+            .enumerate()
+            .try_for_each(|(i, out)| {
+                // This thread may have run faer's wide kernels (its factorizations).
+                crate::solve::vector_state::clear();
+                let e = start + i;
+                let el = &elements[e];
+                let dpn = D / N;
+                let ue = SVector::<f64, D>::from_fn(|row, _| u[dpn * el[row / dpn] + row % dpn]);
+                let mut fe = SVector::<f64, D>::zeros();
+                let mut m = tangent.then(SMatrix::<f64, D, D>::zeros);
+                kernel(e, &ue, &mut fe, m.as_mut()).map_err(|inv| {
+                    crate::error::ModelError::Inverted {
+                        element: e,
+                        j: inv.j,
+                    }
+                })?;
+                out[..D].copy_from_slice(fe.as_slice());
+                if let Some(m) = m {
+                    out[D..].copy_from_slice(m.as_slice());
+                }
+                Ok(())
+            })
+    };
+    let add = |start: usize, out: &[f64], f: &mut [f64], k: Option<&mut [f64]>| {
+        let end = (start + BLOCK).min(elements.len());
+        let dpn = D / N;
+        let mut k = k;
+        for (e, out) in (start..end).zip(out.chunks(stride)) {
+            for (a, &n) in elements[e].iter().enumerate() {
+                for i in 0..dpn {
+                    f[dpn * n + i] += out[dpn * a + i];
+                }
+            }
+            if let Some(k) = k.as_deref_mut() {
+                asm.add(
+                    k,
+                    first + e,
+                    &SMatrixView::<f64, D, D>::from_slice(&out[D..]),
+                );
             }
         }
-        if let Some(k) = k.as_deref_mut() {
-            asm.add(k, first + e, &ke);
+    };
+    let mut run = |buffer: &mut Vec<f64>| {
+        if buffer.len() < need {
+            buffer.resize(need, 0.0);
         }
-    }
-    Ok(())
+        let (mut this, mut next) = buffer[..need].split_at_mut(need / 2);
+        compute(0, this)?;
+        for start in (0..elements.len()).step_by(BLOCK) {
+            let after = start + BLOCK;
+            let mut added = || add(start, this, f, k.as_deref_mut());
+            let mut computed = || match after < elements.len() {
+                true => compute(after, next),
+                false => Ok(()),
+            };
+            if parallel {
+                rayon::join(added, computed).1?;
+            } else {
+                added();
+                computed()?;
+            }
+            std::mem::swap(&mut this, &mut next);
+        }
+        Ok(())
+    };
+    BLOCKS.with(move |b| match b.try_borrow_mut() {
+        Ok(mut buffer) => run(&mut buffer),
+        Err(_) => run(&mut Vec::new()),
+    })
 }
 
 /// y ← y + α A x for a matrix on an assembler's pattern (no allocation).

@@ -20,6 +20,7 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side, Spec};
+use std::sync::Arc;
 
 use super::ordering;
 use super::sweeps::Sweeps;
@@ -49,19 +50,25 @@ pub enum Factorization {
 /// A symbolic + numeric Cholesky factorization with its workspace. Indices are 32-bit
 /// (less memory traffic in the solves); a pattern too large for them is refused.
 pub struct Cholesky {
-    symbolic: SymbolicCholesky<u32>,
-    /// The analysed pattern in 32-bit indices: faer factorizes a matrix of the factor's
-    /// index type.
-    pattern: SymbolicSparseColMat<u32>,
+    analysis: Arc<Analysis>,
     l_values: Vec<f64>,
     /// The right-hand side in the factor's numbering during a simplicial solve.
     permuted: Vec<f64>,
     /// A simplicial factor laid out for the sweeps (empty for a supernodal one).
     sweeps: Sweeps,
     mem: MemBuffer,
+    factorized: bool,
+}
+
+/// What the symbolic analysis of one pattern gives: shared by every factorization of a
+/// matrix with that pattern ([`Cholesky::same_pattern`]).
+struct Analysis {
+    symbolic: SymbolicCholesky<u32>,
+    /// The analysed pattern in 32-bit indices: faer factorizes a matrix of the factor's
+    /// index type.
+    pattern: SymbolicSparseColMat<u32>,
     /// Equation of each pivot in the original numbering (new → old).
     perm_fwd: Vec<usize>,
-    factorized: bool,
     /// Parallelism of the numeric factorization (see [`PARALLEL_VALUES`]).
     par: Par,
 }
@@ -69,7 +76,7 @@ pub struct Cholesky {
 impl std::fmt::Debug for Cholesky {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Cholesky")
-            .field("n", &self.symbolic.nrows())
+            .field("n", &self.analysis.symbolic.nrows())
             .field("l_nnz", &self.l_values.len())
             .finish()
     }
@@ -112,15 +119,42 @@ impl Cholesky {
         } else {
             Par::Seq
         };
+        let perm_fwd = match symbolic.perm() {
+            Some(p) => p.arrays().0.iter().map(|&i| i as usize).collect(),
+            None => (0..symbolic.nrows()).collect(),
+        };
+        Self::numeric(Arc::new(Analysis {
+            symbolic,
+            pattern: narrow,
+            perm_fwd,
+            par,
+        }))
+    }
+
+    /// A factorization of another matrix with the pattern this one was analysed for: the
+    /// analysis shared, the factor and workspace its own.
+    pub fn same_pattern(&self) -> Result<Self, ModelError> {
+        Self::numeric(Arc::clone(&self.analysis))
+    }
+
+    /// The factor's storage and workspace for an analysis, claimed against the budget.
+    fn numeric(analysis: Arc<Analysis>) -> Result<Self, ModelError> {
+        let symbolic = &analysis.symbolic;
         let req = StackReq::any_of(&[
-            symbolic.factorize_numeric_llt_scratch::<f64>(par, Spec::<LltParams, f64>::default()),
+            symbolic.factorize_numeric_llt_scratch::<f64>(
+                analysis.par,
+                Spec::<LltParams, f64>::default(),
+            ),
             symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
         ]);
         // The factor, and for the simplicial layout its copy for the sweeps (values, their
         // positions, row indices: at most one of each per stored value).
-        let copies = match factorization {
-            Factorization::Simplicial => 2 * budget::bytes_of::<f64>(1),
-            Factorization::Supernodal => 0,
+        let (copies, sweeps) = match symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(s) => (
+                2 * budget::bytes_of::<f64>(1),
+                Sweeps::new(s.col_ptr(), s.row_idx()),
+            ),
+            SymbolicCholeskyRaw::Supernodal(_) => (0, Sweeps::default()),
         };
         let per_value = budget::bytes_of::<f64>(1) + copies;
         budget::claim(
@@ -130,31 +164,19 @@ impl Cholesky {
                 .saturating_mul(per_value)
                 .saturating_add(req.size_bytes()),
         )?;
-        let perm_fwd = match symbolic.perm() {
-            Some(p) => p.arrays().0.iter().map(|&i| i as usize).collect(),
-            None => (0..symbolic.nrows()).collect(),
-        };
-        let n = symbolic.nrows();
-        let sweeps = match symbolic.raw() {
-            SymbolicCholeskyRaw::Simplicial(s) => Sweeps::new(s.col_ptr(), s.row_idx()),
-            SymbolicCholeskyRaw::Supernodal(_) => Sweeps::default(),
-        };
         Ok(Self {
             sweeps,
             l_values: vec![0.0; symbolic.len_val()],
-            permuted: vec![0.0; n],
-            pattern: narrow,
-            symbolic,
+            permuted: vec![0.0; symbolic.nrows()],
             mem: MemBuffer::new(req),
-            perm_fwd,
             factorized: false,
-            par,
+            analysis,
         })
     }
 
     /// Number of equations.
     pub fn n(&self) -> usize {
-        self.symbolic.nrows()
+        self.analysis.symbolic.nrows()
     }
 
     /// Number of stored values of the factor L.
@@ -168,22 +190,22 @@ impl Cholesky {
         self.factorized = false;
         assert_eq!(
             a.val().len(),
-            self.pattern.row_idx().len(),
+            self.analysis.pattern.row_idx().len(),
             "Cholesky::factorize with a matrix of another pattern than the analysed one"
         );
         let stack = MemStack::new(&mut self.mem);
-        let result = self.symbolic.factorize_numeric_llt(
+        let result = self.analysis.symbolic.factorize_numeric_llt(
             &mut self.l_values,
-            SparseColMatRef::new(self.pattern.as_ref(), a.val()),
+            SparseColMatRef::new(self.analysis.pattern.as_ref(), a.val()),
             Side::Lower,
             LltRegularization::default(),
-            self.par,
+            self.analysis.par,
             stack,
             Spec::default(),
         );
         super::vector_state::clear();
         if let Err(LltError::NonPositivePivot { index }) = result {
-            let equation = self.perm_fwd.get(index).copied().unwrap_or(index);
+            let equation = self.analysis.perm_fwd.get(index).copied().unwrap_or(index);
             return Err(ModelError::Singular {
                 equation,
                 dof: equation,
@@ -191,7 +213,7 @@ impl Cholesky {
             });
         }
         self.check_pivots(a)?;
-        if let SymbolicCholeskyRaw::Simplicial(_) = self.symbolic.raw() {
+        if let SymbolicCholeskyRaw::Simplicial(_) = self.analysis.symbolic.raw() {
             self.sweeps.load(&self.l_values);
         }
         self.factorized = true;
@@ -202,7 +224,7 @@ impl Cholesky {
     fn check_pivots(&self, a: SparseColMatRef<'_, usize, f64>) -> Result<(), ModelError> {
         let mut worst = (f64::INFINITY, 0);
         self.for_each_pivot(|j, l_jj| {
-            let eq = self.perm_fwd[j];
+            let eq = self.analysis.perm_fwd[j];
             let ratio = l_jj * l_jj / diagonal(a, eq);
             if ratio.is_nan() || ratio < worst.0 {
                 worst = (ratio, eq);
@@ -220,7 +242,7 @@ impl Cholesky {
 
     /// Calls `f(j, L_jj)` for each pivot in elimination order.
     fn for_each_pivot(&self, mut f: impl FnMut(usize, f64)) {
-        match self.symbolic.raw() {
+        match self.analysis.symbolic.raw() {
             SymbolicCholeskyRaw::Simplicial(s) => {
                 // faer stores the diagonal first in each column of L.
                 for (j, &start) in s.col_ptr()[..s.nrows()].iter().enumerate() {
@@ -251,14 +273,14 @@ impl Cholesky {
             self.factorized,
             "Cholesky::solve_in_place before a successful factorize"
         );
-        match self.symbolic.raw() {
+        match self.analysis.symbolic.raw() {
             SymbolicCholeskyRaw::Simplicial(_) => {
                 let x = &mut self.permuted;
-                for (x, &p) in x.iter_mut().zip(&self.perm_fwd) {
+                for (x, &p) in x.iter_mut().zip(&self.analysis.perm_fwd) {
                     *x = rhs[p];
                 }
                 self.sweeps.solve(x);
-                for (&x, &p) in x.iter().zip(&self.perm_fwd) {
+                for (&x, &p) in x.iter().zip(&self.analysis.perm_fwd) {
                     rhs[p] = x;
                 }
             }
@@ -266,7 +288,7 @@ impl Cholesky {
                 let n = rhs.len();
                 let stack = MemStack::new(&mut self.mem);
                 let rhs = MatMut::from_column_major_slice_mut(rhs, n, 1);
-                LltRef::new(&self.symbolic, &self.l_values).solve_in_place_with_conj(
+                LltRef::new(&self.analysis.symbolic, &self.l_values).solve_in_place_with_conj(
                     Conj::No,
                     rhs,
                     Par::Seq,

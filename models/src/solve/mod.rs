@@ -17,7 +17,7 @@ pub mod spectrum;
 pub mod statics;
 pub mod structure;
 mod sweeps;
-mod vector_state;
+pub(crate) mod vector_state;
 
 pub use central_difference::CentralDifference;
 pub use cholesky::{Cholesky, Factorization};

@@ -196,12 +196,26 @@ impl Newton {
         Self::check(&settings)?;
         let bc = Dirichlet::new(asm, constrained)?;
         let chol = Cholesky::analyze(bc.symbolic().as_ref(), factorization)?;
-        let (n, free) = (asm.n_dofs(), bc.n_free());
+        Ok(Self::with(bc, chol, asm.n_dofs(), asm.nnz(), settings))
+    }
+
+    /// A solver for other equations of the same pattern and constrained dofs (a mesh of
+    /// the same connectivity with its nodes moved): the symbolic analysis shared, the last
+    /// equilibrium u = 0 under no load.
+    pub fn same_pattern(&self, settings: Settings) -> Result<Self, ModelError> {
+        Self::check(&settings)?;
+        let chol = self.chol.same_pattern()?;
+        let (n, nnz) = (self.f.len(), self.k.len());
+        Ok(Self::with(self.bc.clone(), chol, n, nnz, settings))
+    }
+
+    fn with(bc: Dirichlet, chol: Cholesky, n: usize, nnz: usize, settings: Settings) -> Self {
+        let free = bc.n_free();
         let full = || vec![0.0; n];
-        Ok(Self {
+        Self {
             factorized: false,
             factored_at: full(),
-            k: asm.zeros(),
+            k: vec![0.0; nnz],
             reduced: vec![0.0; bc.nnz()],
             f: full(),
             r: vec![0.0; free],
@@ -221,7 +235,7 @@ impl Newton {
             bc,
             chol,
             settings,
-        })
+        }
     }
 
     fn check(settings: &Settings) -> Result<(), ModelError> {

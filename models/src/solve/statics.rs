@@ -34,6 +34,17 @@ impl Statics {
         })
     }
 
+    /// A solver for another stiffness of the same pattern and constrained dofs: the
+    /// symbolic analysis shared.
+    pub fn same_pattern(&self) -> Result<Self, ModelError> {
+        Ok(Self {
+            bc: self.bc.clone(),
+            reduced: vec![0.0; self.reduced.len()],
+            chol: self.chol.same_pattern()?,
+            rhs: vec![0.0; self.rhs.len()],
+        })
+    }
+
     /// The dof split.
     pub fn dirichlet(&self) -> &Dirichlet {
         &self.bc

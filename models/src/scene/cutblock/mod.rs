@@ -10,7 +10,8 @@
 //! What a step costs depends on what changed. Linear law: loads only → one solve with the
 //! existing factorization; E or ν → reassembly and numeric refactorization. Finite strain:
 //! Newton's method from the last equilibrium in increments of at most `max_increment` of
-//! pull. Either law: the cut grew → a new mesh, pattern, symbolic analysis.
+//! pull. Either law: the cut grew → a new mesh, pattern, symbolic analysis; a finite-strain
+//! law then starts Newton from the last equilibrium carried onto the new mesh.
 //!
 //! Where the model stops being valid, it says so once per run (see
 //! [`Scene::take_warnings`]): the linear law beyond 5 % principal strain
@@ -22,6 +23,7 @@ mod geometry;
 mod outputs;
 mod profiles;
 mod topology;
+mod transfer;
 mod variables;
 
 use geometry::{Geometry, Options, Strategy, Support};
@@ -260,9 +262,21 @@ impl CutBlock {
                 // Built and solved aside: on error the last good topology and state stay.
                 let limit = megabytes(self.values.real(MEMORY_LIMIT));
                 let mut built = budget::within(limit, || {
-                    Topology::build(geometry, front, material, kind, settings)
+                    Topology::build(geometry, front, material, kind, settings, slot.as_ref())
                 })?;
-                built.solve(geometry, pull, press, scalpel)?;
+                // A finite-strain law starts from the last equilibrium carried onto the
+                // new mesh, and from the unloaded block if that does not converge.
+                let warm = match slot.as_ref() {
+                    Some(old) => built.start_from(geometry, old, scalpel)?,
+                    None => false,
+                };
+                if let Err(e) = built.solve(geometry, pull, press, scalpel) {
+                    if !warm {
+                        return Err(e);
+                    }
+                    built.unload(geometry, scalpel)?;
+                    built.solve(geometry, pull, press, scalpel)?;
+                }
                 let old = slot.replace(built).map(|t| t.work);
                 self.work = self.work.add(old.unwrap_or_default());
                 self.work.topology_builds += 1;

@@ -19,6 +19,7 @@ use serde::{Deserialize, Serialize};
 use super::contact::{FlankContact, Held, Spring, PENALTY_FACTOR, SLIDING_LIMIT};
 use super::geometry::{Geometry, Strategy, Support};
 use super::profiles::TopSurface;
+use super::transfer::transfer;
 use super::Work;
 use crate::assembly::solid::{Body, Solid, Tetrahedron};
 use crate::assembly::{mul_add, Assembler};
@@ -51,6 +52,27 @@ enum Solver {
     },
     /// A finite-strain law.
     Newton(Box<Newton>),
+}
+
+impl Solver {
+    fn dirichlet(&self) -> &crate::assembly::Dirichlet {
+        match self {
+            Self::Linear { statics, .. } => statics.dirichlet(),
+            Self::Newton(n) => n.dirichlet(),
+        }
+    }
+
+    /// A solver of the same kind for equations of the same pattern, sharing the analysis.
+    fn same_pattern(&self, asm: &Assembler, settings: Settings) -> Result<Self, SceneError> {
+        Ok(match self {
+            Self::Linear { statics, .. } => Self::Linear {
+                statics: Box::new(statics.same_pattern()?),
+                k_base: asm.zeros(),
+                k: asm.zeros(),
+            },
+            Self::Newton(n) => Self::Newton(Box::new(n.same_pattern(settings)?)),
+        })
+    }
 }
 
 /// Everything that depends on the current cut.
@@ -268,13 +290,16 @@ fn flank_facets(
 
 impl Topology {
     /// Meshes the block cut up to `front`, checks that every body is supported, builds the
-    /// solid, the pattern and the solver, and factorizes the linear law's stiffness.
+    /// solid, the pattern and the solver, and factorizes the linear law's stiffness. A
+    /// `previous` topology whose mesh has the same connectivity and supports (the front
+    /// moved within a cell, [`Geometry::x_planes`]) lends its pattern and symbolic analysis.
     pub fn build(
         g: &Geometry,
         front: f64,
         material: Material,
         kind: Tetrahedron,
         settings: Settings,
+        previous: Option<&Topology>,
     ) -> Result<Self, SceneError> {
         let CutMesh { mesh, flank_pairs } = g.cut(front)?;
         check_supported(&mesh, mesh.node_sets().get("y0")?)?;
@@ -301,27 +326,42 @@ impl Topology {
         } else {
             None
         };
-        let mut elements = solid.connectivity();
-        if let Some(c) = &contact {
-            elements.extend(c.elements.iter().map(|e| e.as_slice()));
-        }
-        let asm = Assembler::new(solid.nodes().len(), 3, &elements);
-        let top = TopSurface::new(&mesh, g, quadratic.as_ref());
-        let n_dofs = solid.n_dofs();
-        let solver = if material.law.finite() {
-            Solver::Newton(Box::new(Newton::new(
-                &asm,
-                &fixed,
-                Factorization::Supernodal,
-                settings,
-            )?))
-        } else {
-            Solver::Linear {
-                statics: Box::new(Statics::new(&asm, &fixed, Factorization::Supernodal)?),
-                k_base: asm.zeros(),
-                k: asm.zeros(),
+        let elements = elements_of(&solid, contact.as_ref());
+        let fixed = {
+            let mut f = fixed;
+            f.sort_unstable();
+            f.dedup();
+            f
+        };
+        let finite = material.law.finite();
+        let same = previous.filter(|p| {
+            matches!(p.solver, Solver::Newton(_)) == finite
+                && p.solver.dirichlet().constrained() == fixed
+                && p.elements() == elements
+        });
+        let (asm, solver) = match same {
+            Some(p) => (p.asm.clone(), p.solver.same_pattern(&p.asm, settings)?),
+            None => {
+                let asm = Assembler::new(solid.nodes().len(), 3, &elements);
+                let solver = if finite {
+                    Solver::Newton(Box::new(Newton::new(
+                        &asm,
+                        &fixed,
+                        Factorization::Supernodal,
+                        settings,
+                    )?))
+                } else {
+                    Solver::Linear {
+                        statics: Box::new(Statics::new(&asm, &fixed, Factorization::Supernodal)?),
+                        k_base: asm.zeros(),
+                        k: asm.zeros(),
+                    }
+                };
+                (asm, solver)
             }
         };
+        let top = TopSurface::new(&mesh, g, quadratic.as_ref());
+        let n_dofs = solid.n_dofs();
         let mut t = Self {
             front,
             solid,
@@ -344,6 +384,11 @@ impl Topology {
         };
         t.assemble_linear()?;
         Ok(t)
+    }
+
+    /// The node lists of the solid's elements and the contact's.
+    fn elements(&self) -> Vec<&[usize]> {
+        elements_of(&self.solid, self.contact.as_ref())
     }
 
     /// The topology's state (see [`TopologyState`]).
@@ -378,7 +423,7 @@ impl Topology {
     ) -> Result<Self, SceneError> {
         let elastic = Elastic::new("saved", state.young, state.poisson)?;
         let material = Material::new(Law::parse(&state.law)?, elastic);
-        let mut t = Self::build(g, state.front, material, kind, settings)?;
+        let mut t = Self::build(g, state.front, material, kind, settings, None)?;
         let n = t.u.len();
         for (name, v) in [
             ("u", &state.u),
@@ -412,6 +457,38 @@ impl Topology {
         }
         t.work = state.work;
         Ok(t)
+    }
+
+    /// Starts the next solve from `from`'s equilibrium carried onto this mesh
+    /// ([`transfer`]) under `from`'s load, for the finite-strain laws (the linear law solves
+    /// directly and needs no start). Returns whether it did.
+    pub fn start_from(
+        &mut self,
+        g: &Geometry,
+        from: &Topology,
+        scalpel_x: f64,
+    ) -> Result<bool, SceneError> {
+        let Solver::Newton(n) = &self.solver else {
+            return Ok(false);
+        };
+        let constrained = n.dirichlet().constrained().to_vec();
+        let Some(u) = transfer(&from.solid, &from.u, &self.solid, g.y_cut) else {
+            return Ok(false);
+        };
+        self.u = u;
+        self.set_loads(g, from.load.0, from.load.1, scalpel_x);
+        for d in constrained {
+            self.u[d] = self.prescribed[d];
+        }
+        self.restart(g, from.load, scalpel_x)?;
+        Ok(true)
+    }
+
+    /// Back to the unloaded block (after a start from another mesh that did not converge).
+    pub fn unload(&mut self, g: &Geometry, scalpel_x: f64) -> Result<(), SceneError> {
+        self.u.fill(0.0);
+        self.internal.fill(0.0);
+        self.restart(g, (0.0, 0.0), scalpel_x)
     }
 
     /// The linear law's stiffness K (the tangent at u = 0) and its factorization.
@@ -656,6 +733,15 @@ impl Topology {
         }
         Ok(())
     }
+}
+
+/// The node lists of the solid's elements, then the contact's (the assembler's elements).
+fn elements_of<'a>(solid: &'a Solid, contact: Option<&'a FlankContact>) -> Vec<&'a [usize]> {
+    let mut elements = solid.connectivity();
+    if let Some(c) = contact {
+        elements.extend(c.elements.iter().map(|e| e.as_slice()));
+    }
+    elements
 }
 
 /// The nodes on the cut plane that the cut left shared (crack front and uncut part).
