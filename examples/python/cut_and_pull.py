@@ -2,14 +2,15 @@
 end is pulled; plot the reaction force over time and the laser profile along x = 50 mm.
 
     python examples/python/cut_and_pull.py                       # 10 mm pull, full cut
-    python examples/python/cut_and_pull.py --pull 5 --blade-end 60 --set material=neo-hookean
+    python examples/python/cut_and_pull.py --pull 5 --blade-end 60 --set material=linear
 
 The inputs are a table over time (piecewise linear), as an importer passes them at each
 communication point: `scalpel_x` goes from 0 to --blade-end mm over the first half, `pull`
 from 0 to --pull mm over the whole run. The FMI 3 FMU returns each profile as one array of
-181 heights (y = 0, 0.5, …, 90 mm; NaN over the open cut). The default law is linear and
-logs a warning beyond 5 % strain (a 10 mm pull with the full cut goes there);
-`--set material=neo-hookean` is the law the shipped measurements match. Every variable is
+181 heights (y = 0, 0.5, …, 90 mm; NaN over the open cut). The default law is
+neo-Hookean, the law the shipped measurements match, valid at the seed's 10 mm pull;
+`--set material=linear` is the fast small-strain path, which logs a warning beyond 5 %
+strain (a 10 mm pull with the full cut goes there). Every variable is
 listed in docs/reference/cutblock-variables.md. Build the FMUs first:
 bash fmu/bundle.sh
 """

@@ -850,6 +850,11 @@ mod tests {
         for version in [Version::Fmi2, Version::Fmi3] {
             let (mut i, vr) = instance(version, true);
             small(&mut i, &vr);
+            // The linear law: twice E and twice the pull give four times the force.
+            assert_eq!(
+                i.set_strings(&[vr("material")], &["linear".into()]),
+                Status::Ok
+            );
             i.enter_initialization();
             let mut force = [0.0];
             assert_eq!(i.set_reals(&[vr("pull")], &[0.5]), Status::Ok);
@@ -885,6 +890,10 @@ mod tests {
     fn the_linear_law_warns_once_per_run_beyond_its_strain() {
         let (mut i, vr) = instance(Version::Fmi3, false);
         small(&mut i, &vr);
+        assert_eq!(
+            i.set_strings(&[vr("material")], &["linear".into()]),
+            Status::Ok
+        );
         i.enter_initialization();
         assert_eq!(i.exit_initialization(), Status::Ok);
         assert_eq!(i.set_reals(&[vr("pull")], &[1.0]), Status::Ok);
@@ -902,6 +911,7 @@ mod tests {
         assert_eq!(i.do_step(2.0, 1.0), Status::Ok, "once per run");
         i.reset();
         small(&mut i, &vr);
+        i.set_strings(&[vr("material")], &["linear".into()]);
         i.set_reals(&[vr("pull")], &[12.0]);
         i.enter_initialization();
         assert_eq!(

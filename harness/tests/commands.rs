@@ -62,6 +62,8 @@ fn identify_fits_a_set_without_profiles_at_a_given_nu_and_refuses_a_bad_one() {
     // reaction of this specimen, fully cut, at E = 1 MPa, ν = 0.45 and 1 mm pull, so the
     // fit must give E = 0.8 / g.
     let mut block = models::scene::cutblock::CutBlock::new();
+    let material = block.lookup("material").unwrap();
+    block.set_string(material, "linear").unwrap();
     for (name, value) in [
         ("cells_x", 2.0),
         ("cells_y", 4.0),

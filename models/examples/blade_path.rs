@@ -3,8 +3,8 @@
 //! change of the reaction per step against the mean change.
 //!
 //! `cargo run --release -p models --example blade_path -- [PULL] [STEP] [MATERIAL] [ELEMENT]
-//! [REFINE] [FROM]` (defaults: 10 mm, 0.5 mm, linear, tet4, 1, 0 mm: the blade starts at
-//! FROM).
+//! [REFINE] [FROM]` (defaults: 10 mm, 0.5 mm, neo-hookean, tet4, 1, 0 mm: the blade starts
+//! at FROM).
 
 use models::scene::cutblock::CutBlock;
 use models::scene::Scene;
@@ -18,7 +18,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let (pull, step, refine) = (number(1, 10.0)?, number(2, 0.5)?, number(5, 1.0)?);
     let from = number(6, 0.0)?;
-    let material = args.get(3).map_or("linear", String::as_str);
+    let material = args.get(3).map_or("neo-hookean", String::as_str);
     let element = args.get(4).map_or("tet4", String::as_str);
     let mut s = CutBlock::new();
     for (name, value) in [("material", material), ("element", element)] {

@@ -4,12 +4,14 @@
 use models::scene::cutblock::{CutBlock, PROFILE_STATIONS};
 use models::scene::{Scene, SceneError};
 
+/// The cut block with `settings` and `strings` set, initialized; the linear law unless
+/// `strings` names another (most tests here hold the linear model to exact solutions).
 fn scene(settings: &[(&str, f64)], strings: &[(&str, &str)]) -> CutBlock {
     let mut s = CutBlock::new();
     for (name, v) in settings {
         s.set(name, *v).unwrap();
     }
-    for (name, v) in strings {
+    for (name, v) in [("material", "linear")].iter().chain(strings) {
         let vr = s.lookup(name).unwrap();
         s.set_string(vr, v).unwrap();
     }

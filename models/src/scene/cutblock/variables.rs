@@ -48,7 +48,7 @@ pub fn table() -> Vec<Variable> {
         Variable::input("scalpel_x", "mm", 0.0, (0.0, 1e4), "scalpel position; the incision covers x from 0 to the furthest position it has reached (a node plane lies at the blade)"),
         Variable::string("contact", "penalty", "`penalty` (closing cut flanks are kept apart, node-to-facet penalty) or `none` (flanks may pass through each other)"),
         memory_limit(),
-        Variable::string("material", "linear", "`linear` (small strain; warns beyond 5 % strain), `neo-hookean` (compressible, finite strain) or `stvk` (St. Venant-Kirchhoff, finite strain)"),
+        Variable::string("material", "neo-hookean", "`neo-hookean` (compressible, finite strain; the default: valid at the seed's 10 mm pull), `linear` (small strain, the fast path; warns beyond 5 % strain) or `stvk` (St. Venant-Kirchhoff, finite strain)"),
         Variable::string("element", "tet4", "`tet4` (linear tetrahedra) or `tet10` (quadratic tetrahedra: mid-edge nodes, 14-point quadrature)"),
         Variable::parameter("max_increment", Tunable, "mm", 1.0, (1e-6, 1e3), "finite strain: largest change of the pull per Newton load increment"),
         Variable::output("reaction_force", "N", 1, "y-reaction force on the pulled face y = L (y-internal force summed over the face)"),
