@@ -8,8 +8,8 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::{CommandFactory, Parser, Subcommand};
 use harness::report::{
-    self, cut_speed_error, fields, identification, model_order, series, speed_error, sweep,
-    variables, verification, Depth,
+    self, blade_path, cut_speed_error, fields, identification, model_order, series, speed_error,
+    sweep, variables, verification, Depth,
 };
 use harness::studies::identify::Model;
 use harness::studies::{measurements, peer};
@@ -87,6 +87,12 @@ enum Command {
     /// Speed versus error of the cut block's models (law × element × mesh), Pareto plot
     CutSpeedError {
         #[arg(long, default_value = "report/cut_speed_error")]
+        out: PathBuf,
+    },
+    /// The blade crossing the pulled cut block in 1 mm steps on 1× and 2× cells: reaction,
+    /// opening and lift against the blade, their difference, CSV and plot
+    BladePath {
+        #[arg(long, default_value = "report/blade_path")]
         out: PathBuf,
     },
     /// Verification of the FE core and both scenes against analytical and seed results
@@ -213,6 +219,9 @@ fn run(cli: Cli) -> Result<Option<PathBuf>> {
             cut_speed_error::section,
             Depth::Full,
         )?,
+        Command::BladePath { out } => {
+            report::write(&out, "Blade path", blade_path::section, Depth::Full)?
+        }
         Command::Verify { out } => {
             report::write(&out, "Verification", verification::section, Depth::Full)?
         }

@@ -8,15 +8,17 @@ use anyhow::Result;
 
 use super::identification;
 use super::{
-    cut_speed_error, fields, model_order, speed_error, sweep, verification, Depth, Report, Section,
+    blade_path, cut_speed_error, fields, model_order, speed_error, sweep, verification, Depth,
+    Report, Section,
 };
 
 /// The default report's sections with their names, in order.
-pub const SECTIONS: [(&str, Section); 8] = [
+pub const SECTIONS: [(&str, Section); 9] = [
     ("verification", verification::section),
     ("identification", identification::shipped),
     ("speed versus error, abdomen", speed_error::section),
     ("speed versus error, cut block", cut_speed_error::section),
+    ("blade path", blade_path::section),
     ("pelvis sweep", |r, _| {
         sweep::shipped(r, "pelvis_sweep", &["configuration", "anatomy.outlet"])
     }),

@@ -6,10 +6,12 @@
 //! - [`profiles`]: scanner profiles against the model, in the lab frame and aligned;
 //! - [`speed_error`]: run time against error for the abdomen, and stability on hard cases;
 //! - [`cut_speed_error`]: run time against error for the cut block's models;
+//! - [`blade_path`]: the cut block's outputs as the blade crosses it, on two meshes;
 //! - [`verification`]: the FE core and both scenes against analytical and seed results;
 //! - [`peer`]: the default abdomen's matrices and times for the peer benchmark (scipy, CHOLMOD);
 //! - [`fields`]: the displacement fields the reports draw and write for ParaView.
 
+pub mod blade_path;
 pub mod cut_speed_error;
 pub mod fields;
 pub mod identify;
