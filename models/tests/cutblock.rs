@@ -278,7 +278,14 @@ fn near_incompressible_force_grows_with_nu_and_stays_finite() {
 #[test]
 fn bad_values_are_refused_by_name() {
     let mut s = CutBlock::new();
-    for (name, v) in [("E", 0.0), ("E", f64::NAN), ("nu", 0.5), ("cells_x", 0.0)] {
+    for (name, v) in [
+        ("E", 0.0),
+        ("E", f64::NAN),
+        ("nu", 0.5),
+        ("cells_x", 0.0),
+        ("mesh_grading", 0.5),
+        ("mesh_grading", 5.0),
+    ] {
         let err = s.set(name, v).unwrap_err().to_string();
         assert!(err.contains(name), "{err}");
     }

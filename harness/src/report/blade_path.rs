@@ -9,7 +9,7 @@ use super::plot::{self, Axis, Chart, Curve, Mark};
 use super::{Depth, Report};
 use crate::studies::blade_path::{run, write_csv, Crossing, Study};
 
-/// Adds the section to `report`: 1 mm steps, or 10 mm at [`Depth::Quick`].
+/// Adds the section to `report`: 1 mm steps, or 20 mm at [`Depth::Quick`].
 pub fn section(report: &mut Report, depth: Depth) -> Result<()> {
     let study = match depth {
         Depth::Quick => Study::quick(),

@@ -18,10 +18,10 @@ pub struct Study {
 }
 
 impl Study {
-    /// The quick report's: 10 mm steps at the seed's 10 mm pull.
+    /// The quick report's: 20 mm steps at the seed's 10 mm pull.
     pub fn quick() -> Self {
         Self {
-            step: 10.0,
+            step: 20.0,
             ..Self::default()
         }
     }

@@ -79,34 +79,71 @@ pub struct Geometry {
 }
 
 /// Node planes over [0, length] in `cells` layers with `target`, if it lies strictly
-/// inside, on a plane: n layers of equal thickness below it and cells − n above, n chosen
-/// (1 ≤ n < cells) to make the two thicknesses most alike (smallest |ln(h_below/h_above)|).
-/// This is how the shipped data sets place their crack fronts (set C: 10 layers of 1.275 mm
-/// below z = 12.75 mm, 4 of 1.0625 mm above). Without a target inside, uniform layers.
-fn graded(length: f64, cells: usize, target: Option<f64>) -> Vec<f64> {
+/// inside, on a plane: n layers below it and cells − n above, n chosen (1 ≤ n < cells) to
+/// make the two uniform thicknesses most alike (smallest |ln(h_below/h_above)|), or the
+/// uniform plane the target is on. This is how the shipped data sets place their crack
+/// fronts (set C: 10 layers of 1.275 mm below z = 12.75 mm, 4 of 1.0625 mm above).
+///
+/// On each side the layers are graded towards the target by the power law
+/// d_i = D (i/n)^β (distance from the target of the i-th of n planes of a side of length D):
+/// β = 1 gives uniform layers (the same floats as without grading), β = 2 layers that grow
+/// linearly away from it — the grading that restores a linear element's optimal rate next
+/// to a crack front, where the displacement goes as r^½ (Babuška's graded meshes; see
+/// `docs/theory/cutblock.md`). Without a target inside, uniform layers.
+fn graded(length: f64, cells: usize, target: Option<f64>, beta: f64) -> Vec<f64> {
     let uniform = |from: f64, to: f64, n: usize| {
         (0..=n).map(move |i| from + (to - from) * i as f64 / n as f64)
     };
     let Some(t) = target.filter(|&t| t > 0.0 && t < length && cells >= 2) else {
         return uniform(0.0, length, cells).collect();
     };
-    // A target on a uniform plane keeps the uniform planes (the same floats, bit for bit).
     let mut p: Vec<f64> = uniform(0.0, length, cells).collect();
-    if let Some(k) = p.iter().position(|&q| (q - t).abs() <= 1e-12 * length) {
-        p[k] = t;
-        return p;
-    }
-    let mismatch = |n: usize| {
-        ((t / n as f64) / ((length - t) / (cells - n) as f64))
-            .ln()
-            .abs()
+    let below = match p.iter().position(|&q| (q - t).abs() <= 1e-12 * length) {
+        // A target on a uniform plane keeps the uniform planes (the same floats, bit for bit).
+        Some(k) if beta == 1.0 => {
+            p[k] = t;
+            return p;
+        }
+        Some(k) => k,
+        None => {
+            let mismatch = |n: usize| {
+                ((t / n as f64) / ((length - t) / (cells - n) as f64))
+                    .ln()
+                    .abs()
+            };
+            (1..cells)
+                .min_by(|&a, &b| mismatch(a).total_cmp(&mismatch(b)))
+                .expect("cells ≥ 2")
+        }
     };
-    let below = (1..cells)
-        .min_by(|&a, &b| mismatch(a).total_cmp(&mismatch(b)))
-        .expect("cells ≥ 2");
-    p = uniform(0.0, t, below).collect();
-    p.extend(uniform(t, length, cells - below).skip(1));
+    // The fraction of a side's length at its i-th of n planes counted from the target.
+    let towards = |i: usize, n: usize| {
+        let xi = i as f64 / n as f64;
+        if beta == 1.0 {
+            xi
+        } else {
+            xi.powf(beta)
+        }
+    };
+    p = if beta == 1.0 {
+        uniform(0.0, t, below).collect()
+    } else {
+        (0..=below)
+            .map(|i| t - t * towards(below - i, below))
+            .collect()
+    };
+    let above = cells - below;
+    p.extend((1..=above).map(|i| {
+        if beta == 1.0 {
+            t + (length - t) * i as f64 / above as f64
+        } else {
+            t + (length - t) * towards(i, above)
+        }
+    }));
     p[below] = t;
+    if beta != 1.0 {
+        p[cells] = length;
+    }
     p
 }
 
@@ -134,8 +171,14 @@ impl Geometry {
         y_cut: f64,
         depth: f64,
         press_radius: f64,
+        grading: f64,
         options: Options,
     ) -> Result<Self, SceneError> {
+        if !(1.0..=4.0).contains(&grading) {
+            return Err(SceneError::Config(format!(
+                "mesh_grading = {grading} must lie in [1, 4] (1: uniform layers)"
+            )));
+        }
         if !(y_cut > 0.0 && y_cut < size[1]) {
             return Err(SceneError::Config(format!(
                 "y_cut = {y_cut} mm must lie inside the block (0, {})",
@@ -155,8 +198,8 @@ impl Geometry {
                 cells[2]
             )));
         }
-        let y_planes = graded(size[1], cells[1], Some(y_cut));
-        let z_planes = graded(size[2], cells[2], z_cut);
+        let y_planes = graded(size[1], cells[1], Some(y_cut), grading);
+        let z_planes = graded(size[2], cells[2], z_cut, grading);
         let at = y_planes
             .iter()
             .position(|&y| y == y_cut)
@@ -271,20 +314,43 @@ mod tests {
     #[test]
     fn graded_planes_put_the_target_on_a_plane_with_alike_layers() {
         // Set C of the shipped data: 17 mm, 14 layers, crack front at 12.75 mm.
-        let p = graded(17.0, 14, Some(12.75));
+        let p = graded(17.0, 14, Some(12.75), 1.0);
         assert_eq!(p.len(), 15);
         assert_eq!(p[10], 12.75);
         assert!((p[1] - 1.275).abs() < 1e-12 && (p[14] - p[13] - 1.0625).abs() < 1e-12);
         // Set A: the front halfway, uniform.
-        let p = graded(17.0, 14, Some(8.5));
+        let p = graded(17.0, 14, Some(8.5), 1.0);
         assert!(p
             .windows(2)
             .all(|w| (w[1] - w[0] - 17.0 / 14.0).abs() < 1e-12));
         // A target at the edge: no move of the nearest plane, one thin layer, flagged.
-        let p = graded(80.0, 16, Some(0.1));
+        let p = graded(80.0, 16, Some(0.1), 1.0);
         assert_eq!((p[0], p[1]), (0.0, 0.1));
         assert!(layer_ratio(&p, 0.1) < SLIVER_RATIO);
-        assert_eq!(graded(10.0, 4, None), [0.0, 2.5, 5.0, 7.5, 10.0]);
+        assert_eq!(graded(10.0, 4, None, 2.0), [0.0, 2.5, 5.0, 7.5, 10.0]);
+    }
+
+    /// β = 2: the layers next to the target are D / n² thick and grow linearly away from
+    /// it on both sides (z of set C: 12.75 mm below in 10 layers, 4.25 mm above in 4).
+    #[test]
+    fn power_law_grading_grows_the_layers_away_from_the_target() {
+        let p = graded(17.0, 14, Some(12.75), 2.0);
+        assert_eq!((p[0], p[10], p[14]), (0.0, 12.75, 17.0));
+        let widths: Vec<f64> = p.windows(2).map(|w| w[1] - w[0]).collect();
+        assert!((widths[9] - 12.75 / 100.0).abs() < 1e-12, "{widths:?}");
+        assert!((widths[10] - 4.25 / 16.0).abs() < 1e-12, "{widths:?}");
+        // d_i = D (i/n)²: the widths grow by 2 D / n² per layer away from the target.
+        for k in 0..9 {
+            let step = widths[k] - widths[k + 1];
+            assert!((step - 2.0 * 12.75 / 100.0).abs() < 1e-12, "{widths:?}");
+        }
+        for k in 10..13 {
+            let step = widths[k + 1] - widths[k];
+            assert!((step - 2.0 * 4.25 / 16.0).abs() < 1e-12, "{widths:?}");
+        }
+        // A target on a uniform plane is graded too.
+        let p = graded(17.0, 14, Some(8.5), 2.0);
+        assert!((p[1] - p[0] - 8.5 * 13.0 / 49.0).abs() < 1e-12, "{p:?}");
     }
 
     /// Wherever the front is, a plane lies on it, the cells within the block around it are
@@ -297,7 +363,16 @@ mod tests {
             support: Support::Clamped,
             contact: true,
         };
-        let g = Geometry::new([100.0, 80.0, 17.0], [6, 16, 14], 45.0, 8.5, 5.0, options).unwrap();
+        let g = Geometry::new(
+            [100.0, 80.0, 17.0],
+            [6, 16, 14],
+            45.0,
+            8.5,
+            5.0,
+            1.0,
+            options,
+        )
+        .unwrap();
         let h = 100.0 / 6.0;
         let uniform: Vec<f64> = (0..=6).map(|i| 100.0 * f64::from(i) / 6.0).collect();
         for front in [0.0, 100.0] {

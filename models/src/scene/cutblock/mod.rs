@@ -224,6 +224,7 @@ impl CutBlock {
             self.values.real(Y_CUT),
             self.values.real(DEPTH),
             self.values.real(PRESS_RADIUS),
+            self.values.real(MESH_GRADING),
             Options {
                 strategy: Strategy::parse(self.values.string(STRATEGY)?)?,
                 support: Support::parse(self.values.string(SUPPORT)?)?,
