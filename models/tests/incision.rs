@@ -209,6 +209,16 @@ fn a_warm_started_blade_advance_finds_the_cold_equilibrium() {
         step(&mut warm, &[("scalpel_x", 41.0)]);
         let increments = warm.work().increments - before.increments;
         assert!(increments < 5, "{element}: the advance started cold");
+        assert_eq!(
+            warm.work().analyses,
+            before.analyses,
+            "{element}: 40 -> 41 mm keeps the connectivity, so the analysis is reused"
+        );
+        assert_eq!(
+            warm.work().topology_builds,
+            before.topology_builds + 1,
+            "{element}"
+        );
         let mut cold = block(&reals, &strings);
         step(&mut cold, &[("scalpel_x", 41.0), ("pull", 5.0)]);
         assert!(cold.work().increments >= 5, "{element}");

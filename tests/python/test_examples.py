@@ -90,7 +90,8 @@ def test_identify_specimen_reports_the_residual_of_its_own_fit(tmp_path):
             w.writerow([k, repr(float(d))])
     n = len(measured)
     model = simulate("cutblock", float(n), 1.0,
-                     {"E": repr(e), "nu": repr(nu), "scalpel_x": 100.0},
+                     {"material": "linear", "element": "tet4", "E": repr(e), "nu": repr(nu),
+                      "scalpel_x": 100.0},
                      ["reaction_force"], table)
     residual = np.sqrt(np.mean((measured[:, 1] - model[1:, 1]) ** 2))
     assert abs(number(out, "force RMS residual") - residual) <= 1e-9 * residual

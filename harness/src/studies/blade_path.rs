@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+use anyhow::{ensure, Context, Result};
 use models::scene::cutblock::CutBlock;
 use models::scene::Scene;
 
@@ -18,7 +18,8 @@ pub struct Study {
 }
 
 impl Study {
-    /// The quick report's: 20 mm steps at the seed's 10 mm pull.
+    /// The quick report's: 20 mm steps at the seed's 10 mm pull (its last step, 80 → 100 mm,
+    /// holds the far-face ligament).
     pub fn quick() -> Self {
         Self {
             step: 20.0,
@@ -75,6 +76,11 @@ impl Crossing {
 /// Runs the study; `progress(k, n)` after each of the n blade positions of all meshes.
 pub fn run(study: &Study, progress: &dyn Fn(usize, usize)) -> Result<Vec<Crossing>> {
     let positions = (100.0 / study.step).round() as usize;
+    ensure!(
+        positions >= 3,
+        "blade step {} mm: the blade path needs at least three steps across the 100 mm block",
+        study.step
+    );
     let total = (positions + 1) * study.refine.len();
     let mut done = 0;
     study

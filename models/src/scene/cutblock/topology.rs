@@ -339,6 +339,7 @@ impl Topology {
                 && p.solver.dirichlet().constrained() == fixed
                 && p.elements() == elements
         });
+        let analysed = u64::from(same.is_none());
         let (asm, solver) = match same {
             Some(p) => (p.asm.clone(), p.solver.same_pattern(&p.asm, settings)?),
             None => {
@@ -380,7 +381,10 @@ impl Topology {
             saved_internal: vec![0.0; n_dofs],
             prescribed: vec![0.0; n_dofs],
             loads: vec![0.0; n_dofs],
-            work: Work::default(),
+            work: Work {
+                analyses: analysed,
+                ..Work::default()
+            },
         };
         t.assemble_linear()?;
         Ok(t)
