@@ -163,12 +163,14 @@ thread_local! {
 /// elements from `first` on), without zeroing either. `kernel(e, u_e, f_e, k_e)` adds element
 /// e's force and, when given, its tangent; an inverted element is reported with its index.
 ///
-/// The elements go in blocks of [`BLOCK`]: a block's kernels run on rayon's threads while
-/// the block before is added in element order (from [`PARALLEL_ELEMENTS`] elements on), so the sums, and the results, are the same
-/// bit for bit on any number of threads. The block results live in a per-thread buffer kept
-/// between calls (a call made while it is in use, e.g. from a task rayon runs while this
-/// one waits, uses a buffer of its own). Each kernel starts with a clean vector-register
-/// state ([`crate::solve::vector_state`]): rayon's threads also run faer's factorizations.
+/// The elements go in blocks of [`BLOCK`]: from [`PARALLEL_ELEMENTS`] elements on, a
+/// block's kernels run on rayon's threads while the block before is added in element order,
+/// so the sums, and the results, are the same bit for bit on any number of threads; an
+/// inverted element is named as the first of its block, whichever thread met one. The
+/// block results live in a per-thread buffer kept between calls (a call made while it is in
+/// use, e.g. from a task rayon runs while this one waits, uses a buffer of its own). Each
+/// kernel starts with a clean vector-register state ([`crate::solve::vector_state`]):
+/// rayon's threads also run faer's factorizations.
 pub fn add_internal<const N: usize, const D: usize>(
     elements: &[[usize; N]],
     first: usize,
