@@ -18,6 +18,17 @@ fn initialized() -> CutBlock {
     s
 }
 
+/// The default block with `material` and `element`, initialized.
+fn initialized_with(material: &str, element: &str) -> CutBlock {
+    let mut s = CutBlock::new();
+    for (name, value) in [("material", material), ("element", element)] {
+        let vr = s.lookup(name).unwrap();
+        s.set_string(vr, value).unwrap();
+    }
+    s.initialize(0.0).unwrap();
+    s
+}
+
 /// A step that only changes the pull: one solve with the existing factorization.
 #[divan::bench]
 fn load_only_step(bencher: Bencher) {
@@ -70,12 +81,7 @@ fn blade_advance_1mm<const FROM: usize>(bencher: Bencher, (material, element): (
     let from = FROM as f64;
     bencher
         .with_inputs(|| {
-            let mut s = CutBlock::new();
-            for (name, value) in [("material", material), ("element", element)] {
-                let vr = s.lookup(name).unwrap();
-                s.set_string(vr, value).unwrap();
-            }
-            s.initialize(0.0).unwrap();
+            let mut s = initialized_with(material, element);
             s.set("scalpel_x", from).unwrap();
             s.set("pull", 10.0).unwrap();
             s.do_step(0.0, 1.0).unwrap();
@@ -158,12 +164,7 @@ fn contact_step(bencher: Bencher) {
 fn pull_to_10mm(bencher: Bencher, (material, element): (&str, &str)) {
     bencher
         .with_inputs(|| {
-            let mut s = CutBlock::new();
-            for (name, value) in [("material", material), ("element", element)] {
-                let vr = s.lookup(name).unwrap();
-                s.set_string(vr, value).unwrap();
-            }
-            s.initialize(0.0).unwrap();
+            let mut s = initialized_with(material, element);
             s.set("scalpel_x", 100.0).unwrap();
             s.do_step(0.0, 1.0).unwrap();
             s.set("pull", 10.0).unwrap();
