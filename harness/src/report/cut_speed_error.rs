@@ -68,7 +68,7 @@ fn reference_table(report: &mut Report, reference: &Reference) {
         ));
         return;
     };
-    let [p_reaction, p_lift] = x.order;
+    let [p_reaction, p_lift, p_profile] = x.order;
     let [e_reaction, e_lift] = x.sensitivity;
     let [f_reaction, f_lift] = x.finest;
     report.text(&format!(
@@ -80,7 +80,8 @@ fn reference_table(report: &mut Report, reference: &Reference) {
          the finest mesh is {:.2} % and {:.2} % from it, a conservative bound on the \
          reference's error (the meshes are not exactly similar: the cut planes split the \
          layers differently at each refinement, docs/theory/cutblock.md). The profile is \
-         extrapolated station by station with the lift's order.",
+         extrapolated station by station with its own observed order, {p_profile:.2} (from \
+         the largest differences between the meshes' profiles).",
         100.0 * e_reaction,
         100.0 * e_lift,
         100.0 * f_reaction,

@@ -159,8 +159,9 @@ pub struct Reference {
 /// How a Richardson extrapolation went: the observed orders and the error estimates.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Extrapolation {
-    /// Observed orders of the reaction and the bottom lift.
-    pub order: [f64; 2],
+    /// Observed orders of the reaction, the bottom lift and the profile along x = 50 mm
+    /// (the largest difference over the stations).
+    pub order: [f64; 3],
     /// The relative change of the extrapolated reaction and lift when the order is taken
     /// as [`REACTION_ORDER`] instead of the observed one.
     pub sensitivity: [f64; 2],
@@ -199,13 +200,22 @@ pub fn run(model: &Model) -> Result<Answer> {
 
 /// The order p and the limit f∞ of f(h) = f∞ + C h^p through three values at h = 1 / r.
 fn extrapolate(refine: [f64; 3], f: [f64; 3]) -> Result<(f64, f64)> {
+    let p = order(refine, f[0] - f[1], f[1] - f[2])
+        .with_context(|| format!("the values {f:?} at refine {refine:?}"))?;
+    Ok((p, limit(refine.map(|r| 1.0 / r), f, p)))
+}
+
+/// The order p of f(h) = f∞ + C h^p, h = 1 / refine, whose successive differences are
+/// `d01` and `d12` (of one sign, or of norms).
+fn order(refine: [f64; 3], d01: f64, d12: f64) -> Result<f64> {
     let h = refine.map(|r| 1.0 / r);
-    let ratio = (f[0] - f[1]) / (f[1] - f[2]);
+    let ratio = d01 / d12;
     let model = |p: f64| (h[0].powf(p) - h[1].powf(p)) / (h[1].powf(p) - h[2].powf(p));
     let (mut lo, mut hi) = (0.05, 12.0);
     if !(ratio > model(lo) && ratio < model(hi)) {
         bail!(
-            "the values {f:?} at refine {refine:?} do not converge monotonically at an order in              [{lo}, {hi}] (successive differences' ratio {ratio:.3})"
+            "they do not converge monotonically at an order in [{lo}, {hi}] (successive \
+             differences' ratio {ratio:.3})"
         );
     }
     for _ in 0..200 {
@@ -216,8 +226,7 @@ fn extrapolate(refine: [f64; 3], f: [f64; 3]) -> Result<(f64, f64)> {
             hi = mid;
         }
     }
-    let p = 0.5 * (lo + hi);
-    Ok((p, limit(h, f, p)))
+    Ok(0.5 * (lo + hi))
 }
 
 /// f∞ of f(h) = f∞ + C h^p through the two finest values.
@@ -226,7 +235,8 @@ fn limit(h: [f64; 3], f: [f64; 3], p: f64) -> f64 {
 }
 
 /// The reference from the answers of `study.reference`: one taken as it is, three
-/// extrapolated (the profile with the lift's order).
+/// extrapolated (the profile station by station with its own order, observed from the
+/// largest differences between the meshes' profiles).
 fn reference(mut meshes: Vec<(Model, Answer)>) -> Result<Reference> {
     if meshes.len() == 1 {
         return Ok(Reference {
@@ -244,8 +254,17 @@ fn reference(mut meshes: Vec<(Model, Answer)>) -> Result<Reference> {
     let lift = of(&|a| a.bottom_lift);
     let (p_reaction, reaction_limit) = extrapolate(refine, reaction).context("reaction")?;
     let (p_lift, lift_limit) = extrapolate(refine, lift).context("bottom lift")?;
+    let largest = |a: usize, b: usize| {
+        let (a, b) = (&meshes[a].1.profile, &meshes[b].1.profile);
+        a.iter()
+            .zip(b)
+            .filter(|(x, y)| x.is_finite() && y.is_finite())
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max)
+    };
+    let p_profile = order(refine, largest(0, 1), largest(1, 2)).context("profile x = 50")?;
     let profile = (0..PROFILE_STATIONS)
-        .map(|k| limit(h, of(&|a| a.profile[k]), p_lift))
+        .map(|k| limit(h, of(&|a| a.profile[k]), p_profile))
         .collect();
     let sensitivity = |f: [f64; 3], at: f64| ((limit(h, f, REACTION_ORDER) - at) / at).abs();
     let finest = |f: [f64; 3], at: f64| ((f[2] - at) / at).abs();
@@ -257,7 +276,7 @@ fn reference(mut meshes: Vec<(Model, Answer)>) -> Result<Reference> {
             seconds: meshes.iter().map(|(_, a)| a.seconds).sum(),
         },
         extrapolation: Some(Extrapolation {
-            order: [p_reaction, p_lift],
+            order: [p_reaction, p_lift, p_profile],
             sensitivity: [
                 sensitivity(reaction, reaction_limit),
                 sensitivity(lift, lift_limit),
@@ -377,9 +396,10 @@ mod tests {
             assert!((limit - 3.0).abs() < 1e-9, "{limit}");
         }
         let err = extrapolate([1.0, 2.0, 3.0], [3.0, 2.0, 2.5]).unwrap_err();
+        let text = format!("{err:#}");
         assert!(
-            err.to_string().contains("do not converge monotonically"),
-            "{err}"
+            text.contains("do not converge monotonically") && text.contains("[3.0, 2.0, 2.5]"),
+            "{text}"
         );
     }
 
