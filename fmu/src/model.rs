@@ -41,7 +41,7 @@ pub const MODELS: [Model; 2] = [
         description: models::scene::abdomen::DESCRIPTION,
         create: || Box::new(Abdomen::new()),
         stop_time: 2.0,
-        step_size: 1e-3,
+        step_size: 1e-2,
     },
     Model {
         identifier: "cutblock",

@@ -246,7 +246,8 @@ fn a_modal_sweep_gives_the_full_order_peaks() {
         let text = format!(
             "name = \"orders\"\nscene = \"abdomen\"\nstop_time = 1.0\nstep = 0.01\njobs = 2\n\
              record = [\"floor_stress_max\", \"apex_uy\"]\n\
-             [parameters]\ntarget_triangles = 800\nmodel_order = \"{order}\"\n\
+             [parameters]\ntarget_triangles = 800\nkinematics = \"linear\"\n\
+             model_order = \"{order}\"\n\
              [[sweep]]\ndesign = \"list\"\nvalues = {{ configuration = [\"narrow\", \"wide\"] }}\n"
         );
         let e = Experiment::parse(&text, tmp.path()).unwrap();

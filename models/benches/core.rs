@@ -223,7 +223,9 @@ mod plane2d_quadratic {
             mesh,
             asm,
             materials,
+            Formulation::Displacement,
             Arc::from([]),
+            None,
         ))
     }
 

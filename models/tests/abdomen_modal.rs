@@ -14,8 +14,10 @@ const OUTPUTS: [&str; 4] = [
     "apex_uy",
 ];
 
+/// The reduced orders reduce the linear equation of motion: every scene here is linear.
 fn scene(order: &str, modes: f64, settings: &[(&str, f64)], configuration: &str) -> Abdomen {
     let mut s = Abdomen::new();
+    s.set_str("kinematics", "linear").unwrap();
     s.set_str("model_order", order).unwrap();
     s.set_str("configuration", configuration).unwrap();
     s.set("modes", modes).unwrap();
@@ -217,6 +219,7 @@ fn bad_model_orders_are_refused_by_name() {
         err.contains("model_order") && err.contains("reduced"),
         "{err}"
     );
+    s.set_str("kinematics", "linear").unwrap();
     s.set_str("model_order", "modal").unwrap();
     s.set("target_triangles", 200.0).unwrap();
     s.set("modes", 2000.0).unwrap();

@@ -112,11 +112,14 @@ fn the_abdomen_continues_bit_for_bit_with_every_integrator() {
         );
     }
     // The explicit schemes below their stability limits.
-    let fine = [("target_triangles", 300.0), ("max_step", 2e-5)];
+    let fine = [("target_triangles", 300.0), ("max_step", 1e-5)];
     for integrator in ["central_difference", "rk4"] {
         continues(
             abdomen,
-            (&fine, &[("integrator", integrator)]),
+            (
+                &fine,
+                &[("integrator", integrator), ("kinematics", "linear")],
+            ),
             none,
             2e-4,
             7,
@@ -133,7 +136,10 @@ fn the_abdomen_continues_bit_for_bit_in_modal_order_and_at_finite_strain() {
     let press: Inputs = |k| vec![("press_force", 0.01 * k as f64)];
     continues(
         abdomen,
-        (&COARSE, &[("model_order", "modal")]),
+        (
+            &COARSE,
+            &[("model_order", "modal"), ("kinematics", "linear")],
+        ),
         press,
         5e-3,
         7,
@@ -157,10 +163,13 @@ fn the_abdomen_continues_across_stiffness_changes() {
         7 => vec![("cavity_E", 0.008)],
         _ => Vec::new(),
     };
-    for order in ["full", "modal"] {
+    for (order, kinematics) in [("full", "finite"), ("modal", "linear")] {
         continues(
             abdomen,
-            (&COARSE, &[("model_order", order)]),
+            (
+                &COARSE,
+                &[("model_order", order), ("kinematics", kinematics)],
+            ),
             stiffen,
             5e-3,
             7,

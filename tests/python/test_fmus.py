@@ -23,6 +23,9 @@ FMUS = ROOT / "target" / "fmu"
 HARNESS = ROOT / "target" / "release" / "harness"
 VERSIONS = ["fmi2", "fmi3"]
 SMALL_BLOCK = {"cells_x": 2.0, "cells_y": 4.0, "cells_z": 3.0}
+# fmpy's FMI 2 printer behind its native logger proxy, restored after a test that logs into
+# a list of its own (kept here: the proxy holds it for the rest of the session).
+_PRINTER = None
 
 
 def fmu(model, version):
@@ -81,16 +84,18 @@ def test_cutblock_with_input_table_reproduces_the_in_process_scene(version, tmp_
 
 
 DISCRETIZATIONS = {
-    "tri3": {"element": "tri3", "cavity_nu": 0.45},
-    "tri6": {},
-    "mixed": {"element": "tri6", "formulation": "mixed", "cavity_nu": 0.4999},
-    "finite": {"element": "tri6", "kinematics": "finite"},
+    "tri3": {"element": "tri3", "cavity_nu": 0.45, "kinematics": "linear"},
+    "tri6": {"kinematics": "linear"},
+    "mixed": {"element": "tri6", "formulation": "mixed", "cavity_nu": 0.4999,
+              "kinematics": "linear"},
+    "finite": {},
+    "finite mixed": {"formulation": "mixed", "cavity_nu": 0.4999},
 }
 
 
 @pytest.mark.parametrize("order,discretization",
                          [("full", "tri6"), ("modal", "tri6"), ("full", "tri3"),
-                          ("modal", "mixed"), ("full", "finite")])
+                          ("modal", "mixed"), ("full", "finite"), ("full", "finite mixed")])
 @pytest.mark.parametrize("version", VERSIONS)
 def test_abdomen_with_shipped_configuration_reproduces_the_in_process_scene(
         version, order, discretization):
@@ -105,6 +110,84 @@ def test_abdomen_with_shipped_configuration_reproduces_the_in_process_scene(
     for i, name in enumerate(outputs):
         np.testing.assert_array_equal(result[name], expect[:, i + 1], err_msg=name)
     assert np.all(np.isfinite(result["floor_stress_max"]))
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_the_default_experiment_returns_ok_at_every_step(version):
+    """The abdomen's default experiment (2 s in 10 ms steps, finite strain) runs inside the
+    model's validity: every fmi2DoStep / fmi3DoStep returns OK (read from the C function
+    itself: fmpy's wrapper drops it) and the logger sees no message above OK (the
+    Reference-FMUs importer fmusim stops at the first Warning)."""
+    import ctypes
+    import time
+
+    path = fmu("abdomen", version)
+    md = read_model_description(path)
+    experiment = md.defaultExperiment
+    assert (float(experiment.stopTime), float(experiment.stepSize)) == (2.0, 0.01)
+    logged = []
+
+    def record(*args):
+        status, message = args[-3], args[-1]
+        logged.append((int(status), message))
+
+    unzipdir = extract(path)
+    identifier = md.coSimulation.modelIdentifier
+    if version == "fmi2":
+        from fmpy.fmi2 import (fmi2CallbackFunctions, fmi2CallbackLoggerTYPE,
+                               fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                               calloc, free, printLogMessage)
+        from fmpy.logging import addLoggerProxy
+
+        def callbacks_with(logger):
+            c = fmi2CallbackFunctions()
+            c.logger = fmi2CallbackLoggerTYPE(logger)
+            c.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+            c.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+            return c
+        # fmpy's native proxy formats FMI 2's variadic messages and keeps the Python logger
+        # it wraps in a global: ours while the test runs, fmpy's printer again after it.
+        callbacks = callbacks_with(record)
+        addLoggerProxy(ctypes.byref(callbacks))
+        s = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=identifier,
+                      instanceName="t")
+        s.instantiate(callbacks=callbacks, loggingOn=True)
+        s.setupExperiment(startTime=0.0)
+        s.enterInitializationMode()
+        s.exitInitializationMode()
+        raw = s.dll.fmi2DoStep
+        raw.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int]
+        raw.restype = ctypes.c_int
+        step = lambda t, h: raw(s.component, t, h, 1)
+    else:
+        s = FMU3Slave(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=identifier,
+                      instanceName="t")
+        s.instantiate(loggingOn=True, logMessage=record)
+        s.enterInitializationMode(startTime=0.0)
+        s.exitInitializationMode()
+        raw = s.dll.fmi3DoStep
+        flag = ctypes.c_bool
+        raw.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_bool,
+                        ctypes.POINTER(flag), ctypes.POINTER(flag), ctypes.POINTER(flag),
+                        ctypes.POINTER(ctypes.c_double)]
+        raw.restype = ctypes.c_int
+        out = [flag(), flag(), flag(), ctypes.c_double()]
+        step = lambda t, h: raw(s.component, t, h, True, *map(ctypes.byref, out))
+    statuses = []
+    start = time.perf_counter()
+    try:
+        for k in range(200):
+            statuses.append(step(0.01 * k, 0.01))
+    finally:
+        s.terminate()
+        s.freeInstance()
+        if version == "fmi2":
+            global _PRINTER
+            _PRINTER = callbacks_with(printLogMessage)
+            addLoggerProxy(ctypes.byref(_PRINTER))
+    print(f"{version}: default experiment in {time.perf_counter() - start:.2f} s")
+    assert len(statuses) == 200 and set(statuses) == {0}, statuses
+    assert all(status == 0 for status, _ in logged), logged
 
 
 def test_fmi3_exposes_profiles_as_arrays_and_fmi2_as_indexed_scalars():

@@ -218,6 +218,7 @@ mod tests {
             let mut a = Abdomen::new();
             a.set("target_triangles", 300.0).unwrap();
             a.set_str("element", element).unwrap();
+            a.set_str("kinematics", "linear").unwrap();
             a.initialize(0.0).unwrap();
             let u = a.static_displacement(0.5).unwrap();
             let view = a.view(&u).unwrap();

@@ -178,6 +178,7 @@ struct Setting<'a> {
 impl Setting<'_> {
     fn values(&self) -> Vec<(String, Value)> {
         vec![
+            ("kinematics".into(), Value::Text("linear".into())),
             ("element".into(), Value::Text(self.element.into())),
             ("formulation".into(), Value::Text(self.formulation.into())),
             ("mesh_grading".into(), Value::Real(self.grading)),

@@ -2,6 +2,7 @@
 //! properties per region tag (tissue).
 
 use super::Assembler;
+use crate::element::membrane::Section;
 use crate::element::{line2, tri3, Elastic};
 use crate::error::{positive, ModelError};
 use crate::mesh::Mesh2d;
@@ -30,6 +31,16 @@ impl Truss {
             area: positive(&format!("{name}.area"), area)?,
             density: crate::error::non_negative(&format!("{name}.density"), density)?,
         })
+    }
+
+    /// The section of the lines at finite strain, with active tension `tension` (N per mm
+    /// of depth).
+    pub fn section(&self, tension: f64) -> Section {
+        Section {
+            young: self.young,
+            area: self.area,
+            tension,
+        }
     }
 }
 

@@ -1,8 +1,10 @@
 //! Global matrices of a mesh of 6-node plane-strain triangles ([`crate::element::tri6`]),
 //! properties per region tag as for the linear mesh ([`super::plane::PlaneProperties`]), in
 //! the displacement or the mixed P2/P0 formulation; and at finite strain ([`PlaneBody`], for
-//! the Newton solver).
+//! the Newton solver: triangles in either formulation, lines as membranes,
+//! [`crate::element::membrane`]).
 
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 use nalgebra::SMatrix;
@@ -106,14 +108,55 @@ fn scatter(global: &mut [f64], nodes: &[usize], values: &[f64]) {
 }
 
 /// A mesh of 6-node triangles at finite strain (plane strain, total Lagrangian), one
-/// material per region: the internal forces and tangent for [`crate::solve::Newton`].
+/// material per region, in `formulation`, with its 3-node lines as membranes at finite
+/// strain: the internal forces and tangent for [`crate::solve::Newton`].
 pub struct PlaneBody<'a> {
     pub mesh: &'a QuadraticPlaneMesh,
     pub asm: &'a Assembler,
     pub materials: &'a [Material],
-    /// The lines' properties (by line region); the lines stay small-strain (linear axial
-    /// stiffness), valid while they rotate little.
+    pub formulation: Formulation,
+    /// The lines' properties (by line region).
     pub trusses: &'a [Truss],
+    /// An active tension in the lines of one region.
+    pub active: Option<Active>,
+}
+
+/// An active tension `tension` (N per mm of depth) in the lines of region `region`: a
+/// contracting muscle sheet ([`crate::element::membrane`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Active {
+    pub region: u16,
+    pub tension: f64,
+}
+
+/// An active tension shared between whoever drives the steps, which sets it (the abdomen's
+/// load, at each step's time), and a finite-strain structure's internal forces, which read
+/// it at every evaluation ([`internal_forces`]) and note the value their last tangent was
+/// taken at (a checkpoint must refactorize a kept tangent at that value).
+#[derive(Debug, Default)]
+pub struct SharedTension {
+    now: AtomicU64,
+    at_tangent: AtomicU64,
+}
+
+impl SharedTension {
+    pub fn set(&self, tension: f64) {
+        self.now.store(tension.to_bits(), Ordering::Relaxed);
+    }
+
+    pub fn get(&self) -> f64 {
+        f64::from_bits(self.now.load(Ordering::Relaxed))
+    }
+
+    /// The tension the last tangent was evaluated at.
+    pub fn at_tangent(&self) -> f64 {
+        f64::from_bits(self.at_tangent.load(Ordering::Relaxed))
+    }
+
+    fn tangent_taken(&self) {
+        self.at_tangent
+            .store(self.now.load(Ordering::Relaxed), Ordering::Relaxed);
+    }
 }
 
 impl Equations for PlaneBody<'_> {
@@ -124,6 +167,7 @@ impl Equations for PlaneBody<'_> {
         mut k: Option<&mut [f64]>,
     ) -> Result<(), ModelError> {
         let (mesh, materials, trusses) = (self.mesh, self.materials, self.trusses);
+        let formulation = self.formulation;
         super::add_internal(
             mesh.triangles(),
             0,
@@ -133,37 +177,47 @@ impl Equations for PlaneBody<'_> {
             k.as_deref_mut(),
             |e, ue, fe, ke| {
                 let material = &materials[usize::from(mesh.triangle_regions()[e])];
-                tri6::internal(&mesh.triangle(e), ue, material, fe, ke)
+                tri6::internal_in(formulation, &mesh.triangle(e), ue, material, fe, ke)
             },
         )?;
-        // The lines stay small-strain: f = K u with their linear axial stiffness.
         let first = mesh.triangles().len();
+        let active = self.active;
         super::add_internal(mesh.lines(), first, self.asm, u, f, k, |e, ue, fe, ke| {
-            let t = &trusses[usize::from(mesh.line_regions()[e])];
-            let kl = line3::stiffness(&mesh.line(e), t.young, t.area);
-            *fe += kl * ue;
-            if let Some(ke) = ke {
-                *ke += kl;
-            }
-            Ok(())
+            let region = mesh.line_regions()[e];
+            let tension = active
+                .filter(|a| a.region == region)
+                .map_or(0.0, |a| a.tension);
+            let section = trusses[usize::from(region)].section(tension);
+            line3::membrane(&mesh.line(e)).internal::<6>(ue, section, fe, ke)
         })
     }
 }
 
 /// The internal forces of the body as a finite-strain structure's
-/// ([`crate::solve::Structure::with_internal_forces`]), owning what it reads.
+/// ([`crate::solve::Structure::with_internal_forces`]), owning what it reads; the lines of
+/// `active`'s region carry the tension it holds at each evaluation.
 pub fn internal_forces(
     mesh: Arc<QuadraticPlaneMesh>,
     asm: Arc<Assembler>,
     materials: Arc<[Material]>,
+    formulation: Formulation,
     trusses: Arc<[Truss]>,
+    active: Option<(u16, Arc<SharedTension>)>,
 ) -> Arc<InternalForces> {
     Arc::new(move |u, f, k| {
+        if let (Some((_, t)), Some(_)) = (&active, &k) {
+            t.tangent_taken();
+        }
         PlaneBody {
             mesh: &mesh,
             asm: &asm,
             materials: &materials,
+            formulation,
             trusses: &trusses,
+            active: active.as_ref().map(|(region, t)| Active {
+                region: *region,
+                tension: t.get(),
+            }),
         }
         .internal(u, f, k)
     })

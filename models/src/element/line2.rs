@@ -5,6 +5,8 @@
 
 use nalgebra::{Matrix2, SMatrix, SVector, Vector2};
 
+use super::membrane::{Line, GAUSS_1};
+
 /// Element displacement vector (u_x1, u_y1, u_x2, u_y2).
 pub type Dofs = SVector<f64, 4>;
 
@@ -48,6 +50,16 @@ pub fn axial_stress(p: &[[f64; 2]; 2], young: f64, u: &Dofs) -> f64 {
     let (len, c) = axis(p);
     let du = Vector2::new(u[2] - u[0], u[3] - u[1]);
     young * du.dot(&c) / len
+}
+
+/// The element at finite strain ([`super::membrane`]): linear shape functions, whose
+/// stretch is constant, and the one-point rule.
+pub fn membrane(p: &[[f64; 2]; 2]) -> Line<'_, 2, 1> {
+    Line {
+        nodes: p,
+        derivatives: |_| [-0.5, 0.5],
+        rule: &GAUSS_1,
+    }
 }
 
 #[cfg(test)]

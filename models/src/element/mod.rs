@@ -9,6 +9,7 @@
 pub mod line2;
 pub mod line3;
 pub mod material;
+pub mod membrane;
 pub mod quadrature;
 pub mod solid;
 pub mod tet10;

@@ -91,6 +91,18 @@ impl QuadraticPlaneMesh {
         self.mid.get(a, b)
     }
 
+    /// Moves the mid-edge node between corners `a` and `b` to `to` (a curved edge); false if
+    /// they share no edge.
+    pub fn move_mid(&mut self, a: usize, b: usize, to: [f64; 2]) -> bool {
+        match self.mid.get(a, b) {
+            Some(m) => {
+                self.nodes[m] = to;
+                true
+            }
+            None => false,
+        }
+    }
+
     /// Moves the mid-edge node of every edge between two nodes of `corners` to `onto(mid)`,
     /// e.g. onto the arc the corners lie on, so that the edge is the parabola through the
     /// three (isoparametric curved edges).

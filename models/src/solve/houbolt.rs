@@ -218,8 +218,8 @@ impl Integrator for Houbolt {
             self.starter.prepare(s, self.dt)?;
             self.starter.resume(s, starter)?;
         }
-        if let Some(x) = &c.tangent_at {
-            self.effective.refactorize_at(s, x)?;
+        if let Some((x, shift)) = &c.tangent_at {
+            self.effective.refactorize_at(s, x, *shift)?;
         }
         Ok(())
     }

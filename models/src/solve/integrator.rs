@@ -59,8 +59,8 @@ pub struct Checkpoint {
     /// RK4: the acceleration is stale (matrices changed since it was computed).
     pub stale: bool,
     /// Finite strain: the displacement (free dofs) at which the kept effective tangent was
-    /// factorized; `None` while the factor is the prepared one.
-    pub tangent_at: Option<Vec<f64>>,
+    /// factorized and the mass shift it took; `None` while the factor is the prepared one.
+    pub tangent_at: Option<(Vec<f64>, f64)>,
 }
 
 impl Checkpoint {
@@ -241,21 +241,17 @@ pub(crate) fn initial_state(
     })
 }
 
-/// Initial acceleration from the consistent mass: M a₀ = f(t₀) − C v₀ − K u₀. One extra
-/// factorization of M at start-up (not in the step loop).
+/// Initial acceleration from the consistent mass: M a₀ = f(t₀) − C v₀ − K u₀ (at finite
+/// strain − f_int(u₀), [`Structure::unbalanced`]). One extra factorization of M at start-up
+/// (not in the step loop).
 pub(crate) fn consistent_acceleration(
     s: &Structure,
     state: &mut State,
     load: &mut Load<'_>,
 ) -> Result<(), ModelError> {
-    if s.is_nonlinear() && state.u.iter().any(|&u| u != 0.0) {
-        return Err(ModelError::LinearOnly {
-            what: "a finite-strain start from a deformed state",
-        });
-    }
     let mut f = vec![0.0; s.n()];
     load(state.t, &mut f);
-    s.residual(&f, &state.u, &state.v, &mut state.a);
+    s.unbalanced(&f, &state.u, &state.v, &mut state.a)?;
     if state.a.iter().all(|&x| x == 0.0) {
         return Ok(()); // at rest and unloaded: a₀ = 0 without a factorization of M
     }

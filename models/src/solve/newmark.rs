@@ -54,8 +54,8 @@ impl Integrator for Newmark {
     fn resume(&mut self, s: &Structure, c: &Checkpoint) -> Result<(), ModelError> {
         c.check(self.kind(), self.dt, s.n())?;
         self.state = c.state.clone();
-        if let Some(x) = &c.tangent_at {
-            self.effective.refactorize_at(s, x)?;
+        if let Some((x, shift)) = &c.tangent_at {
+            self.effective.refactorize_at(s, x, *shift)?;
         }
         Ok(())
     }

@@ -68,6 +68,11 @@ pub trait Equations {
         k: Option<&mut [f64]>,
     ) -> Result<(), ModelError>;
 
+    /// Declares the load fraction s ∈ [0, 1] of the solve's load change at which the next
+    /// evaluations are made (0 the last equilibrium's load, 1 the target): for equations
+    /// whose own forces follow the load, such as an active tension. Others ignore it.
+    fn at_load_fraction(&mut self, _s: f64) {}
+
     /// Writes (rather than adds) the internal forces and the tangent.
     fn internal(
         &mut self,
@@ -306,7 +311,7 @@ impl Newton {
         self.restart(&checkpoint.prescribed, &checkpoint.external);
         if let Some(x) = &checkpoint.tangent_at {
             self.trial.copy_from_slice(x);
-            self.tangent(eq).map_err(|why| match why {
+            self.tangent(eq, 0.0).map_err(|why| match why {
                 Failure::Model(e) => e,
                 _ => ModelError::LinearAlgebra("the kept tangent could not be rebuilt".into()),
             })?;
@@ -424,7 +429,7 @@ impl Newton {
         for iteration in 1..=self.settings.max_iterations {
             let fresh = !self.factorized || contraction > self.settings.reuse_contraction;
             if fresh {
-                self.tangent(eq)?;
+                self.tangent(eq, to)?;
             }
             self.direction()?;
             let outcome = if fresh {
@@ -476,7 +481,7 @@ impl Newton {
             return Ok(());
         }
         if !self.factorized {
-            self.tangent(eq)?;
+            self.tangent(eq, from)?;
         }
         let start = Instant::now();
         self.change.fill(0.0);
@@ -503,6 +508,7 @@ impl Newton {
     /// force scale, records ‖r_f‖ relative to it and returns ‖r_f‖.
     fn residual(&mut self, eq: &mut impl Equations, s: f64) -> Result<f64, Failure> {
         let start = Instant::now();
+        eq.at_load_fraction(s);
         let result = eq.internal(&self.trial, &mut self.f, None);
         self.report.assembly += start.elapsed();
         result.map_err(Failure::Model)?;
@@ -517,10 +523,11 @@ impl Newton {
         Ok(norm)
     }
 
-    /// Assembles and factorizes the tangent at `trial`.
-    fn tangent(&mut self, eq: &mut impl Equations) -> Result<(), Failure> {
+    /// Assembles and factorizes the tangent at `trial` for load fraction `s`.
+    fn tangent(&mut self, eq: &mut impl Equations, s: f64) -> Result<(), Failure> {
         self.factorized = false;
         let start = Instant::now();
+        eq.at_load_fraction(s);
         let result = eq.internal(&self.trial, &mut self.f, Some(&mut self.k));
         self.report.assembly += start.elapsed();
         result.map_err(Failure::Model)?;

@@ -1,8 +1,10 @@
 //! How the cavity is discretized (issue 12): the seed's 3-node triangles with 2-node
 //! membranes (seed 003 §5.4.4), or 6-node triangles ([`tri6`]) with 3-node membranes on the
 //! same edge nodes ([`crate::element::line3`]), in the displacement or the mixed P2/P0
-//! formulation; at small strain, or at finite strain (plane-strain total Lagrangian
-//! neo-Hookean, Newton's method within each implicit step).
+//! formulation; at small strain, or at finite strain (issue 26: plane-strain total
+//! Lagrangian neo-Hookean cavity in either formulation, the mixed one in the three-field form
+//! of [`tri6::internal_mixed`]; membranes at finite strain, [`crate::element::membrane`];
+//! Newton's method within each implicit step).
 //!
 //! The 6-node mesh is derived from the 3-node one: the corners keep their numbers, so node
 //! sets, landmarks and the first 2 · corners entries of a displacement mean the same in both.
@@ -12,19 +14,19 @@
 //! Where each stops being valid: `tri3` locks as ν → 0.5 (0.15 of the beam deflection at
 //! ν = 0.499, `tests/locking.rs`); the displacement `tri6` locks mildly in displacement but
 //! its stresses oscillate at ν ≥ 0.499 — use `mixed` there; `linear` kinematics assume small
-//! strains and rotations; `finite` keeps the membranes small-strain (linear axial stiffness),
-//! valid while they rotate little.
+//! strains and rotations (and give a straight membrane no stiffness across itself).
 
 use std::collections::HashSet;
 use std::sync::Arc;
 
 use super::mesher::Meshed;
-use crate::assembly::plane::{self, PlaneProperties};
-use crate::assembly::quadratic_plane::{self, PlaneBody};
-use crate::assembly::{loads, Assembler};
-use crate::element::tri3;
+use crate::assembly::plane::{self, PlaneProperties, Truss};
+use crate::assembly::quadratic_plane::{self, PlaneBody, SharedTension};
+use crate::assembly::Assembler;
 use crate::element::tri6::{self, Formulation};
+use crate::element::{line2, line3, tri3};
 use crate::element::{Law, Material};
+use crate::error::ModelError;
 use crate::mesh::{plane_dofs, Mesh2d, QuadraticPlaneMesh};
 use crate::scene::SceneError;
 use crate::solve::structure::InternalForces;
@@ -35,6 +37,22 @@ use crate::stress::{LineStresses, PlaneStress, TriangleStresses};
 pub enum Element {
     Tri3,
     Tri6,
+}
+
+impl Element {
+    /// The memory a triangle of the mesh and its assembled system takes, estimated before
+    /// meshing. 3-node: half a node of 2 dofs with about 28 stored entries per node, each
+    /// an index and eight value copies (stiffness, mass and damping in full and reduced,
+    /// effective matrix), plus the 6 × 6 scatter map and the mesher's own vertices and
+    /// faces. 6-node: two nodes per triangle (a corner's half and three mid-edge halves),
+    /// about 92 stored entries per triangle (a corner couples with about 19 nodes, a
+    /// mid-edge node with 9), and the 12 × 12 scatter map.
+    pub fn bytes_per_triangle(self) -> usize {
+        match self {
+            Self::Tri3 => 14 * (8 + 8 * 8) + 36 * 8 + 200,
+            Self::Tri6 => 92 * (8 + 8 * 8) + 144 * 8 + 200,
+        }
+    }
 }
 
 /// Parses the `element` parameter.
@@ -98,12 +116,9 @@ impl Choice {
                     .into(),
             ));
         }
-        if choice.finite
-            && (choice.element, choice.formulation) != (Element::Tri6, Formulation::Displacement)
-        {
+        if choice.finite && choice.element != Element::Tri6 {
             return Err(SceneError::Config(format!(
-                "kinematics = `finite` needs element = `tri6` and formulation = `displacement` \
-                 (got `{element_value}`, `{formulation_value}`)"
+                "kinematics = `finite` needs element = `tri6` (got `{element_value}`)"
             )));
         }
         Ok(choice)
@@ -121,9 +136,17 @@ pub struct Discretization {
 }
 
 impl Discretization {
+    /// The discretization of `meshed`; a 6-node mesh has its boundary mid-edge nodes on the
+    /// boundary curve ([`Meshed::boundary_mids`]: curved edges, so that a line in tension
+    /// presses on its side as a curve does rather than only at its corners).
     pub fn new(meshed: Meshed, choice: Choice) -> Self {
-        let quadratic = (choice.element == Element::Tri6)
-            .then(|| Arc::new(QuadraticPlaneMesh::new(&meshed.mesh)));
+        let quadratic = (choice.element == Element::Tri6).then(|| {
+            let mut q = QuadraticPlaneMesh::new(&meshed.mesh);
+            for &([a, b], p) in &meshed.boundary_mids {
+                q.move_mid(a, b, p);
+            }
+            Arc::new(q)
+        });
         let asm = Arc::new(match &quadratic {
             Some(q) => quadratic_plane::assembler(q),
             None => plane::assembler(&meshed.mesh),
@@ -187,25 +210,52 @@ impl Discretization {
         Ok(nodes.iter().flat_map(|n| [2 * n, 2 * n + 1]).collect())
     }
 
-    /// Consistent nodal loads (all dofs) of a uniform pressure `p` on the line elements of
-    /// region `region`, normal to them and to their left (into the cavity: the lines run
-    /// counter-clockwise), and the lines' total length.
-    pub fn line_pressure(&self, region: u16, p: f64) -> (Vec<f64>, f64) {
+    /// The nodal forces (all dofs) that a unit active tension (1 N per mm of depth) in the
+    /// line elements of region `region` exerts on the mesh at rest: −f_int(0) of
+    /// [`crate::element::membrane`] with T = 1. Along a polyline of straight elements these
+    /// are T times the turning of the line at its nodes (Laplace's law, discrete), pointing
+    /// to its concave side, plus the pull at its ends.
+    pub fn contraction(
+        &self,
+        region: u16,
+        props: &PlaneProperties,
+    ) -> Result<Vec<f64>, SceneError> {
         let mesh = self.mesh();
         let mut f = vec![0.0; self.n_dofs()];
-        let mut length = 0.0;
+        let folded = |e: usize| {
+            move |inv: crate::element::solid::Inverted| {
+                SceneError::Model(ModelError::Inverted {
+                    element: e,
+                    j: inv.j,
+                })
+            }
+        };
         for (i, &r) in mesh.line_regions().iter().enumerate() {
             if r != region {
                 continue;
             }
-            let [a, b] = mesh.line(i);
-            length += (b[0] - a[0]).hypot(b[1] - a[1]);
+            let section = props.trusses[usize::from(r)].section(1.0);
             match &self.quadratic {
-                Some(q) => loads::quadratic_edge_pressure(q.nodes(), q.lines()[i], p, &mut f),
-                None => loads::edge_pressure(mesh.nodes(), mesh.lines()[i], p, &mut f),
+                Some(q) => {
+                    let mut fe = line3::Dofs::zeros();
+                    let at_rest = line3::Dofs::zeros();
+                    line3::membrane(&q.line(i))
+                        .internal(&at_rest, section, &mut fe, None)
+                        .map_err(folded(i))?;
+                    scatter(&mut f, &q.lines()[i], fe.as_slice());
+                }
+                None => {
+                    let mut fe = line2::Dofs::zeros();
+                    let at_rest = line2::Dofs::zeros();
+                    line2::membrane(&mesh.line(i))
+                        .internal(&at_rest, section, &mut fe, None)
+                        .map_err(folded(i))?;
+                    scatter(&mut f, &mesh.lines()[i], fe.as_slice());
+                }
             }
         }
-        (f, length)
+        f.iter_mut().for_each(|x| *x = -*x);
+        Ok(f)
     }
 
     /// The stress recovery for `props`.
@@ -214,10 +264,12 @@ impl Discretization {
             Some(q) => Recovery {
                 triangles: TriangleStresses::quadratic(q, props, self.choice.formulation),
                 lines: LineStresses::quadratic(q, props),
-                finite: self
-                    .choice
-                    .finite
-                    .then(|| (q.clone(), materials(props).into())),
+                finite: self.choice.finite.then(|| Finite {
+                    mesh: q.clone(),
+                    materials: materials(props).into(),
+                    formulation: self.choice.formulation,
+                    trusses: props.trusses.clone().into(),
+                }),
             },
             None => Recovery {
                 triangles: TriangleStresses::new(self.mesh(), props),
@@ -227,14 +279,23 @@ impl Discretization {
         }
     }
 
-    /// The internal forces at finite strain for `props` (None for linear kinematics).
-    pub fn internal_forces(&self, props: &PlaneProperties) -> Option<Arc<InternalForces>> {
+    /// The internal forces at finite strain for `props` (None for linear kinematics), the
+    /// lines of region `region` carrying the active tension `tension` holds at each
+    /// evaluation.
+    pub fn internal_forces(
+        &self,
+        props: &PlaneProperties,
+        region: u16,
+        tension: &Arc<SharedTension>,
+    ) -> Option<Arc<InternalForces>> {
         let q = self.quadratic.as_ref().filter(|_| self.choice.finite)?;
         Some(quadratic_plane::internal_forces(
             q.clone(),
             self.asm.clone(),
             materials(props).into(),
+            self.choice.formulation,
             props.trusses.clone().into(),
+            Some((region, tension.clone())),
         ))
     }
 
@@ -249,7 +310,9 @@ impl Discretization {
             mesh: q,
             asm: &self.asm,
             materials,
+            formulation: self.choice.formulation,
             trusses: &props.trusses,
+            active: None,
         })
     }
 }
@@ -261,6 +324,15 @@ pub fn materials(props: &PlaneProperties) -> Vec<Material> {
         .iter()
         .map(|c| Material::new(Law::NeoHookean, c.elastic))
         .collect()
+}
+
+/// Adds an element's per-dof values (node-major, 2 per node) to the
+/// global vector.
+fn scatter(global: &mut [f64], nodes: &[usize], values: &[f64]) {
+    for (a, &n) in nodes.iter().enumerate() {
+        global[2 * n] += values[2 * a];
+        global[2 * n + 1] += values[2 * a + 1];
+    }
 }
 
 /// `corners` with the mid-edge nodes of the boundary edges (edges of one triangle) between
@@ -288,24 +360,37 @@ fn boundary_mids(q: &QuadraticPlaneMesh, corners: &[usize]) -> Vec<usize> {
 
 /// Stresses from a displacement of all dofs: the membranes' axial stress and the
 /// triangles' stress at their centroids — small-strain operators, or at finite strain the
-/// Cauchy stress of the neo-Hookean law.
+/// Cauchy stress of the neo-Hookean law and the membranes' mean nominal stress
+/// ([`crate::element::membrane::Line::mean_stress`]).
 #[derive(Debug, Clone)]
 pub struct Recovery {
     triangles: TriangleStresses,
     lines: LineStresses,
-    finite: Option<(Arc<QuadraticPlaneMesh>, Arc<[Material]>)>,
+    finite: Option<Finite>,
+}
+
+/// What the stresses at finite strain read: the 6-node mesh, the materials by region, the
+/// formulation and the lines' properties.
+#[derive(Debug, Clone)]
+struct Finite {
+    mesh: Arc<QuadraticPlaneMesh>,
+    materials: Arc<[Material]>,
+    formulation: Formulation,
+    trusses: Arc<[Truss]>,
 }
 
 impl Recovery {
     /// The stress of triangle `i`; NaN components if it is inverted at finite strain.
     pub fn triangle(&self, i: usize, u: &[f64]) -> PlaneStress {
-        let Some((q, materials)) = &self.finite else {
+        let Some(finite) = &self.finite else {
             return self.triangles.stress(i, u);
         };
+        let q = &finite.mesh;
         let dofs = plane_dofs::<6, 12>(&q.triangles()[i]);
         let ue = tri6::Dofs::from_fn(|k, _| u[dofs[k]]);
-        let material = &materials[usize::from(q.triangle_regions()[i])];
-        match tri6::cauchy(&q.triangle(i), [1.0 / 3.0; 3], &ue, material) {
+        let material = &finite.materials[usize::from(q.triangle_regions()[i])];
+        let centroid = [1.0 / 3.0; 3];
+        match tri6::cauchy(finite.formulation, &q.triangle(i), centroid, &ue, material) {
             Ok(s) => PlaneStress {
                 xx: s[(0, 0)],
                 yy: s[(1, 1)],
@@ -321,9 +406,19 @@ impl Recovery {
         }
     }
 
-    /// The axial stress of line `i` (MPa, tension > 0).
+    /// The axial stress of line `i` (MPa, tension > 0): at finite strain its passive mean
+    /// nominal stress (without an active tension), NaN if it folded onto itself.
     pub fn line(&self, i: usize, u: &[f64]) -> f64 {
-        self.lines.stress(i, u)
+        let Some(finite) = &self.finite else {
+            return self.lines.stress(i, u);
+        };
+        let q = &finite.mesh;
+        let dofs = plane_dofs::<3, 6>(&q.lines()[i]);
+        let ue = line3::Dofs::from_fn(|k, _| u[dofs[k]]);
+        let section = finite.trusses[usize::from(q.line_regions()[i])].section(0.0);
+        line3::membrane(&q.line(i))
+            .mean_stress(&ue, section)
+            .unwrap_or(f64::NAN)
     }
 }
 

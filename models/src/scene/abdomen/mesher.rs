@@ -6,7 +6,6 @@ use spade::{
     AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
 };
 
-use super::discretization::Element;
 use super::geometry::{Boundary, ControlPoints, Spacing, LANDMARKS, PARTS};
 use crate::budget;
 use crate::element::tri3;
@@ -25,15 +24,6 @@ pub const ANGLE_LIMIT_DEG: f64 = 25.0;
 const BOUNDARY_SPACING: f64 = 0.65;
 /// Triangle-area bound relative to the target mean area.
 const AREA_BOUND: f64 = 1.6;
-/// Memory per triangle of the mesh and its assembled system, estimated before meshing: half
-/// a node of 2 dofs with about 28 stored entries per node, each an index and eight value
-/// copies (stiffness, mass and damping in full and reduced, effective matrix), plus the
-/// 6 × 6 scatter map and the mesher's own vertices and faces.
-const BYTES_PER_TRIANGLE: usize = 14 * (8 + 8 * 8) + 36 * 8 + 200;
-/// The same for 6-node triangles: two nodes per triangle (a corner's half and three
-/// mid-edge halves), about 92 stored entries per triangle (a corner couples with about 19
-/// nodes, a mid-edge node with 9), and the 12 × 12 scatter map.
-const BYTES_PER_TRI6: usize = 92 * (8 + 8 * 8) + 144 * 8 + 200;
 
 /// A meshed cavity with its quality figures.
 #[derive(Debug, Clone)]
@@ -43,6 +33,10 @@ pub struct Meshed {
     pub min_angle: f64,
     /// Count of triangles by their smallest angle in 5° bins: [0, 5), [5, 10), …, [55, 60].
     pub angle_histogram: [usize; 12],
+    /// The point of the boundary curve halfway (in arc length) along each boundary segment,
+    /// with the segment's end nodes: where a quadratic mesh puts its boundary mid-edge nodes,
+    /// so that its boundary edges lie on the curve to third order.
+    pub boundary_mids: Vec<([usize; 2], [f64; 2])>,
 }
 
 /// Meshes the outline with about `target_triangles` triangles (more with `grading` > 0: the
@@ -51,13 +45,14 @@ pub struct Meshed {
 /// few triangles may stay below [`ANGLE_LIMIT_DEG`], measured: 15.0° at the smallest, under
 /// 0.5 % below 25°), then splits every triangle
 /// into four `subdivisions` times (nested meshes, the new boundary nodes moved onto the
-/// curve), claiming the memory of the mesh and the system of `element` first. Node sets:
+/// curve), claiming `bytes_per_triangle` for each triangle first (the caller's estimate of
+/// the mesh and the system it will build). Node sets:
 /// one per boundary part (with both end nodes) and the landmarks
 /// ([`LANDMARKS`]: the same material points on every mesh).
 pub fn mesh(
     points: &ControlPoints,
     target_triangles: usize,
-    element: Element,
+    bytes_per_triangle: usize,
     subdivisions: u32,
     grading: f64,
 ) -> Result<Meshed, SceneError> {
@@ -66,14 +61,10 @@ pub fn mesh(
             "target_triangles = {target_triangles} must be at least 50"
         )));
     }
-    let per_triangle = match element {
-        Element::Tri3 => BYTES_PER_TRIANGLE,
-        Element::Tri6 => BYTES_PER_TRI6,
-    };
     budget::claim(
         "the abdomen mesh and its sparse system",
         target_triangles
-            .saturating_mul(per_triangle)
+            .saturating_mul(bytes_per_triangle)
             .saturating_mul(1 << (2 * subdivisions.min(16))),
     )?;
     let coarse = Boundary::new(points, Spacing::uniform(1.0))?;
@@ -98,6 +89,16 @@ pub fn mesh(
         _ => Boundary::subdivided(points, spacing, subdivisions)?,
     };
     debug_assert_eq!(fine.vertices.len(), ring.len());
+    let halves = Boundary::subdivided(points, spacing, subdivisions + 1)?;
+    let boundary_mids = (0..ring.len())
+        .map(|i| {
+            debug_assert_eq!(halves.vertices[2 * i], fine.vertices[i]);
+            (
+                [ring[i], ring[(i + 1) % ring.len()]],
+                halves.vertices[2 * i + 1],
+            )
+        })
+        .collect();
     for (&n, &p) in ring.iter().zip(&fine.vertices) {
         nodes[n] = p;
     }
@@ -117,6 +118,7 @@ pub fn mesh(
         mesh,
         min_angle,
         angle_histogram,
+        boundary_mids,
     })
 }
 
@@ -233,10 +235,13 @@ mod tests {
     use super::*;
     use crate::scene::abdomen::anatomy::Anatomy;
 
+    /// A claim per triangle for the tests' meshes.
+    const TEST_BYTES: usize = 1_000;
+
     #[test]
     fn default_outline_meshes_near_target_with_quality() {
         let points = Anatomy::default().control_points().unwrap();
-        let m = mesh(&points, 6000, Element::Tri3, 0, 0.0).unwrap();
+        let m = mesh(&points, 6000, TEST_BYTES, 0, 0.0).unwrap();
         let n = m.mesh.triangles().len();
         println!(
             "triangles {n}, lines {}, nodes {}, min angle {:.2}°, histogram {:?}",
@@ -267,7 +272,7 @@ mod tests {
     fn landmarks_are_the_same_points_on_every_mesh() {
         let points = Anatomy::default().control_points().unwrap();
         let at = |target, subdivisions, grading| {
-            let m = mesh(&points, target, Element::Tri3, subdivisions, grading).unwrap();
+            let m = mesh(&points, target, TEST_BYTES, subdivisions, grading).unwrap();
             ["diaphragm_apex", "floor_mid", "wall_mid"]
                 .map(|set| m.mesh.nodes()[m.mesh.node_sets().get(set).unwrap()[0]])
         };
@@ -281,7 +286,7 @@ mod tests {
             }
         }
         // The apex is the highest point of the diaphragm's sampled curve.
-        let m = mesh(&points, 1200, Element::Tri3, 0, 0.5).unwrap();
+        let m = mesh(&points, 1200, TEST_BYTES, 0, 0.5).unwrap();
         let top = m
             .mesh
             .node_sets()
@@ -308,8 +313,8 @@ mod tests {
                 })
                 .fold(f64::INFINITY, f64::min)
         };
-        let uniform = mesh(&points, 1500, Element::Tri3, 0, 0.0).unwrap();
-        let graded = mesh(&points, 1500, Element::Tri3, 0, 0.5).unwrap();
+        let uniform = mesh(&points, 1500, TEST_BYTES, 0, 0.0).unwrap();
+        let graded = mesh(&points, 1500, TEST_BYTES, 0, 0.5).unwrap();
         let (u, g) = (shortest(&uniform), shortest(&graded));
         let (nu, ng) = (
             uniform.mesh.triangles().len(),

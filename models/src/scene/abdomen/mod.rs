@@ -1,49 +1,10 @@
 //! The abdomen scene (seed 003 §5.4): a 2D plane-strain model of the midsagittal section of
-//! the abdominal cavity. Triangles fill the cavity; line elements model the diaphragm, the
-//! abdominal wall and the pelvic floor on the boundary nodes; spine and pelvic bone are fixed,
-//! the abdominal wall optionally too. A pressing force acts on the diaphragm:
-//!
-//! F(t) = press_force(t) + press_amplitude · sin(2π · press_frequency · t)   (N per mm depth),
-//!
-//! spread as a uniform pressure F / L_diaphragm normal to the diaphragm, pointing into the
-//! cavity (caudally at the dome), with consistent nodal loads. Inputs may change between any
-//! two steps. Time integration: Houbolt by default (seed 003 App. B.2.2), selectable.
-//!
-//! Tissue properties (mm–N–s–t): four per tissue as in the seed (E, ν or cross-section,
-//! density, damping). Damping is mass-proportional per tissue, C = Σ_t α_t M_t. Defaults and
-//! where they come from (issue 12):
-//!
-//! - cavity contents E = 5 kPa: the order of the shear stiffness of healthy liver by MR
-//!   elastography, about 2 kPa (Yin et al., Clin Gastroenterol Hepatol 5 (2007) 1207–1213),
-//!   times 3 for a nearly incompressible solid (E = 2G(1 + ν)); the contents are a mix of
-//!   organs, so this is an order of magnitude, not a measured value.
-//! - cavity ν = 0.49: soft tissue is mostly water and nearly incompressible (Fung,
-//!   Biomechanics: Mechanical Properties of Living Tissues, 2nd ed., Springer 1993, ch. 7);
-//!   0.49 keeps the bulk modulus 50 times the shear modulus. Up to 0.499 the default 6-node
-//!   displacement element does not lock; beyond it use `formulation = "mixed"` (the scene warns).
-//! - abdominal wall E = 22.5 kPa: the in-vivo sagittal-plane value of Song et al., Surg Endosc
-//!   20 (2006) 987–990.
-//! - densities 1e-9 t/mm³: water, which soft tissue is within a few per cent of.
-//! - assumed, without a source (orders of magnitude chosen so that the membranes carry part of
-//!   the load; change them for a study): diaphragm E = 0.2 MPa with 4 mm²/mm cross-section,
-//!   pelvic floor E = 0.1 MPa with 8 mm²/mm, abdominal wall 20 mm²/mm, and the damping
-//!   α = 5 1/s for every tissue (seed 003 §5.4.4 names a damping constant per tissue but
-//!   gives no value).
-//! - pressing amplitude 0.8 N/mm: about 4 kPa on a 200 mm diaphragm, the bear-down pressure
-//!   used by Noakes et al., J Biomech 41 (2008); its frequency 0.5 Hz is assumed, a slow press
-//!   (the seed's force is a sinusoid of adjustable amplitude and frequency, values not given).
-//!
-//! Discretization defaults: `element = "tri6"` (6-node triangles, 3-node membranes) with the
-//! displacement formulation on about 1,500 triangles; the seed's 3-node triangles lock at
-//! ν = 0.49. `mesh_grading` = ½ grades the mesh towards the singular junctions of the
-//! boundary parts ([`geometry::Spacing`]), where the outputs then converge at the element's
-//! order; the speed–error study in the default report says which setting reaches which
-//! error.
-//!
-//! Where the scene stops being valid it says so once per run ([`Scene::take_warnings`]):
-//! a principal strain beyond 5 % ([`SMALL_STRAIN_LIMIT`]) at linear kinematics — the
-//! default press takes the scene there, use `kinematics = "finite"` to follow it — and a
-//! ν beyond the element's locking limit.
+//! the abdominal cavity, pressed by the contracting diaphragm, for comparing pelvis
+//! configurations by the load on the pelvic floor. This module is the [`Scene`]
+//! implementation; the model is built in `model`, discretized in [`discretization`],
+//! meshed in [`mesher`], checked against its validity in `validity`; the variables and
+//! their defaults are in `variables`, the defaults' sources and the theory in the
+//! repository's docs/theory/abdomen.md.
 
 pub mod anatomy;
 pub mod config;
@@ -53,25 +14,26 @@ pub mod mesher;
 mod model;
 mod outputs;
 mod state;
+mod validity;
 mod variables;
 
 pub use state::State;
 
 use config::{PelvisConfig, ANATOMY};
-use discretization::{Element, FieldView};
+use discretization::FieldView;
 use mesher::Meshed;
 use model::{properties, Model};
 use variables::{
-    table, ELEMENT, FIRST_OUTPUT, FORMULATION, INTEGRATOR, KINEMATICS, MAX_STEP, MEMORY_LIMIT,
-    MODEL_ORDER, PRESS_AMPLITUDE, PRESS_FORCE, PRESS_FREQUENCY, TISSUE_BASE, WALL_SUPPORT,
+    table, COSTAL_MARGIN, ELEMENT, FIRST_OUTPUT, FORMULATION, INTEGRATOR, KINEMATICS, MAX_STEP,
+    MEMORY_LIMIT, MODEL_ORDER, PRESS_AMPLITUDE, PRESS_FORCE, PRESS_FREQUENCY, TISSUE_BASE,
+    WALL_SUPPORT,
 };
 
 use super::{
     check_step, megabytes, GeneratedConfiguration, GeneratorParameter, Scene, SceneError,
-    SceneState, Values, ValuesState, Variable, SMALL_STRAIN_LIMIT,
+    SceneState, Values, ValuesState, Variable,
 };
 use crate::budget;
-use crate::element::tri6::Formulation;
 use crate::solve::{IntegratorKind, ModalBasis, Structure};
 
 /// What the scene is, in one line (the FMUs' `description`).
@@ -98,7 +60,7 @@ pub struct Abdomen {
     time: f64,
     /// Warnings not yet taken, and whether the strain warning was given in this run.
     warnings: Vec<String>,
-    warned_strain: bool,
+    warned_validity: bool,
 }
 
 impl Default for Abdomen {
@@ -118,7 +80,7 @@ impl Abdomen {
             applied: None,
             time: 0.0,
             warnings: Vec::new(),
-            warned_strain: false,
+            warned_validity: false,
         }
     }
 
@@ -251,60 +213,40 @@ impl Abdomen {
         Ok(())
     }
 
-    /// Where the element locks at the contents' current ν (`tests/locking.rs`,
-    /// `abdomen_elements.rs`): `tri3` beyond 0.45 (at 0.49 the apex of the default scene moves
-    /// 3 % less than on the mixed element), the displacement `tri6` beyond 0.499.
+    /// The locking warning at the contents' current ν ([`validity::locking`]).
     fn check_locking(&mut self) {
         let Some(m) = &self.model else {
             return;
         };
         let nu = self.values.real(TISSUE_BASE + 1);
-        let choice = m.disc.choice;
-        let limit = match (choice.element, choice.formulation) {
-            (Element::Tri3, _) => 0.45,
-            (Element::Tri6, Formulation::Displacement) => 0.499,
-            (Element::Tri6, Formulation::Mixed) => return,
-        };
-        if nu > limit {
-            self.warnings.push(format!(
-                "cavity_nu = {nu} is beyond the {limit} up to which element = \"{}\" with \
-                 formulation = \"{}\" is free of locking: displacements come out too small and \
-                 stresses oscillate; use element = \"tri6\", formulation = \"mixed\"",
-                self.values.string(ELEMENT).unwrap_or_default(),
-                self.values.string(FORMULATION).unwrap_or_default(),
-            ));
+        let names = (
+            self.values.string(ELEMENT).unwrap_or_default(),
+            self.values.string(FORMULATION).unwrap_or_default(),
+        );
+        if let Some(w) = validity::locking(m, nu, names) {
+            self.warnings.push(w);
         }
     }
 
-    /// Once per run, at linear kinematics: the largest principal strain beyond
-    /// [`SMALL_STRAIN_LIMIT`]. A modal model expands its field only when the bound of
-    /// [`Model::strain_bound`] does not rule that out.
-    fn check_strain(&mut self) {
+    /// Once per run, the kinematics' validity warning ([`validity::kinematics`]).
+    fn check_validity(&mut self) {
         let Some(m) = &mut self.model else {
             return;
         };
-        let below = m.strain_bound().is_some_and(|b| b <= SMALL_STRAIN_LIMIT);
-        if self.warned_strain || m.disc.choice.finite || below {
+        if self.warned_validity {
             return;
         }
-        m.expand();
-        let strain = m.view(m.u_full()).largest_strain();
-        if strain > SMALL_STRAIN_LIMIT {
-            self.warned_strain = true;
-            self.warnings.push(format!(
-                "at t = {} s the largest principal strain is {:.1} %, beyond the {:.0} % linear \
-                 (small-strain) kinematics are valid for: use kinematics = \"finite\" \
-                 (element = \"tri6\", formulation = \"displacement\") or a smaller load",
-                super::seconds(self.time),
-                100.0 * strain,
-                100.0 * SMALL_STRAIN_LIMIT
-            ));
+        if let Some(w) = validity::kinematics(m, self.time) {
+            self.warned_validity = true;
+            self.warnings.push(w);
         }
     }
 }
 
 /// The pressing force on the diaphragm (N per mm of depth): F(t) = force + amplitude ·
-/// sin(2π · frequency · t).
+/// (1 − cos(2π · frequency · t)) / 2, presses from rest to `amplitude` and back
+/// (issue 26; seed 003's sinusoid also pulled half of the time, which the contracting
+/// diaphragm of finite strain cannot).
 #[derive(Debug, Clone, Copy)]
 struct Press {
     force: f64,
@@ -314,7 +256,8 @@ struct Press {
 
 impl Press {
     fn at(self, t: f64) -> f64 {
-        self.force + self.amplitude * (2.0 * std::f64::consts::PI * self.frequency * t).sin()
+        let phase = 2.0 * std::f64::consts::PI * self.frequency * t;
+        self.force + self.amplitude * 0.5 * (1.0 - phase.cos())
     }
 }
 
@@ -388,6 +331,9 @@ impl Scene for Abdomen {
         if vr == WALL_SUPPORT && !matches!(value, "free" | "fixed") {
             return Err(model::wall_error(value));
         }
+        if vr == COSTAL_MARGIN && !matches!(value, "free" | "fixed") {
+            return Err(model::margin_error(value));
+        }
         if vr == MODEL_ORDER {
             model::order(value)?;
         }
@@ -422,9 +368,9 @@ impl Scene for Abdomen {
         self.time = start_time;
         self.outputs = None;
         self.values.freeze();
-        self.warned_strain = false;
+        self.warned_validity = false;
         self.check_locking();
-        self.check_strain();
+        self.check_validity();
         Ok(())
     }
 
@@ -455,7 +401,7 @@ impl Scene for Abdomen {
         m.advance(h / substeps, substeps as u64, |tau| press.at(tau + offset))?;
         self.time = t + h;
         self.outputs = None;
-        self.check_strain();
+        self.check_validity();
         Ok(())
     }
 
@@ -470,10 +416,11 @@ impl Scene for Abdomen {
             time: self.time,
             stiffness_changed: self.stiffness_changed,
             warnings: self.warnings.clone(),
-            warned_strain: self.warned_strain,
+            warned_validity: self.warned_validity,
             model: model.map(|(m, applied)| state::ModelState {
                 applied: applied.clone(),
                 integrator: m.integrator.checkpoint(),
+                tension: m.tension(),
             }),
         }))
     }
@@ -495,7 +442,7 @@ impl Scene for Abdomen {
                 applied.restore(&m.applied)?;
                 let limit = megabytes(applied.real(MEMORY_LIMIT));
                 let mut model = budget::within(limit, || Model::build(&applied))?;
-                model.resume(&m.integrator)?;
+                model.resume(&m.integrator, m.tension)?;
                 Some(model)
             }
             None => None,
@@ -508,7 +455,7 @@ impl Scene for Abdomen {
             stiffness_changed: s.stiffness_changed,
             time: s.time,
             warnings: s.warnings.clone(),
-            warned_strain: s.warned_strain,
+            warned_validity: s.warned_validity,
         };
         Ok(())
     }

@@ -17,7 +17,7 @@ pub struct State {
     pub(super) time: f64,
     pub(super) stiffness_changed: bool,
     pub(super) warnings: Vec<String>,
-    pub(super) warned_strain: bool,
+    pub(super) warned_validity: bool,
     pub(super) model: Option<ModelState>,
 }
 
@@ -27,4 +27,7 @@ pub(super) struct ModelState {
     /// The values of the last build or stiffness update: what the matrices are of.
     pub(super) applied: ValuesState,
     pub(super) integrator: Checkpoint,
+    /// The diaphragm's active tension of the last step and of the kept tangent (finite
+    /// strain; N/mm).
+    pub(super) tension: [f64; 2],
 }

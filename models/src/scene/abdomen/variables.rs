@@ -1,6 +1,8 @@
 //! The abdomen's variable table (value references, names, units, start values, ranges,
-//! descriptions) — what `modelDescription.xml` is generated from. Sources of the defaults
-//! are in the scene's module documentation.
+//! descriptions) — what `modelDescription.xml` is generated from. The sources of the
+//! defaults (tissues from MR and shear-wave elastography and in-vivo measurement, the press
+//! from a bear-down pressure, supports from anatomy) are in the repository's
+//! docs/theory/abdomen.md, with what is assumed.
 
 use crate::scene::{memory_limit, Variability, Variable};
 
@@ -29,6 +31,8 @@ pub const FORMULATION: u32 = 41;
 pub const KINEMATICS: u32 = 42;
 pub const SUBDIVISIONS: u32 = 43;
 pub const GRADING: u32 = 44;
+// Added by issue 26.
+pub const COSTAL_MARGIN: u32 = 45;
 
 /// Value reference of field `field` (0 E, 1 ν or area, 2 density, 3 damping) of a tissue.
 pub fn tissue_vr(tissue: usize, field: u32) -> u32 {
@@ -40,15 +44,15 @@ pub fn table() -> Vec<Variable> {
     use Variability::{Fixed, Tunable};
     let mut t = vec![
         Variable::string("configuration", "", "pelvis/spine configuration: empty = built-in default, a shipped name (normal, narrow, wide, lordotic, tilted) or a TOML file path"),
-        Variable::parameter("target_triangles", Fixed, "1", 1500.0, (50.0, 500_000.0), "mesh resolution: approximate number of triangles (before `mesh_subdivisions`)"),
-        Variable::string("abdominal_wall", "free", "`free` or `fixed` (seed 003: the wall can additionally be fixed)"),
+        Variable::parameter("target_triangles", Fixed, "1", 750.0, (50.0, 500_000.0), "mesh resolution: approximate number of triangles (before `mesh_subdivisions`)"),
+        Variable::string("abdominal_wall", "fixed", "`fixed` (the default: the wall braced, as the contracted abdominal muscles hold it while a person bears down) or `free` (a passive membrane of wall_E; seed 003 offered both)"),
         Variable::string("integrator", "houbolt", "houbolt, newmark, central_difference or rk4"),
-        Variable::parameter("max_step", Fixed, "s", 1e-3, (1e-8, 10.0), "largest internal time step; a communication step is split into equal substeps (at most 100000 per communication step)"),
+        Variable::parameter("max_step", Fixed, "s", 1e-2, (1e-8, 10.0), "largest internal time step; a communication step is split into equal substeps (at most 100000 per communication step)"),
         memory_limit(),
         Variable::string("model_order", "full", "`full` (every dof); `modal`: `modes` load-dependent Ritz vectors of the pressing load (a Krylov basis holding its static response; within 1 % of full order at the default settings: docs/verification.md in the tissuefmu sources); `eigenmodes`: the lowest `modes` eigenmodes plus the load's static correction; `eigenmodes_truncated`: the eigenmodes alone"),
         Variable::parameter("modes", Fixed, "1", 80.0, (1.0, 2000.0), "basis vectors of a reduced model order (modal, eigenmodes)"),
     ];
-    let defaults = [(0.005, 0.49), (0.2, 4.0), (0.0225, 20.0), (0.1, 8.0)];
+    let defaults = [(0.005, 0.49), (0.2, 4.0), (0.0225, 20.0), (0.05, 8.0)];
     for (i, name) in TISSUES.iter().enumerate() {
         let (e, second) = defaults[i];
         t.push(Variable::parameter(
@@ -57,7 +61,14 @@ pub fn table() -> Vec<Variable> {
             "MPa",
             e,
             (1e-9, 1e6),
-            &format!("Young's modulus of the {name}"),
+            &format!(
+                "Young's modulus of the {name}{}",
+                if i == 2 {
+                    " (acts with abdominal_wall = free)"
+                } else {
+                    ""
+                }
+            ),
         ));
         t.push(if i == 0 {
             Variable::parameter(
@@ -101,21 +112,21 @@ pub fn table() -> Vec<Variable> {
             "N/mm",
             0.8,
             (-1e3, 1e3),
-            "amplitude of the sinusoidal pressing force on the diaphragm, per mm depth",
+            "peak of the press F(t) = press_force + press_amplitude · (1 − cos 2πft)/2 that the contracting diaphragm exerts on the cavity, per mm depth (at finite strain an active tension F/Θ₀ of the diaphragm, Θ₀ its turning between its supports at rest)",
         ),
         Variable::input(
             "press_frequency",
             "Hz",
             0.5,
             (0.0, 1e3),
-            "frequency of the sinusoidal pressing force",
+            "frequency f of the press: one press from rest to its peak and back takes 1/f",
         ),
         Variable::input(
             "press_force",
             "N/mm",
             0.0,
             (-1e3, 1e3),
-            "pressing force added to the sinusoid, supplied each step by the importer",
+            "pressing force added to the press, supplied each step by the importer (negative: the diaphragm drawn out of the cavity, a dead load)",
         ),
         Variable::output(
             "floor_stress_mean",
@@ -191,11 +202,12 @@ pub fn table() -> Vec<Variable> {
             "pressing force applied at the current time",
         ),
         Variable::string("element", "tri6", "cavity element: `tri3` (3-node triangles, 2-node membranes; lock as ν → 0.5) or `tri6` (6-node triangles, 3-node membranes)"),
-        Variable::string("formulation", "displacement", "`displacement` or, with tri6, `mixed` (element-wise pressure condensed at element level, P2/P0: no locking up to ν = 0.4999)"),
-        Variable::string("kinematics", "linear", "`linear` (small strain) or, with tri6 and the displacement formulation, `finite` (plane-strain neo-Hookean, Newton's method in each Houbolt/Newmark step; membranes stay small-strain)"),
+        Variable::string("formulation", "displacement", "`displacement` or, with tri6, `mixed` (element-wise pressure condensed at element level, P2/P0; at finite strain the three-field form: no locking up to ν = 0.4999)"),
+        Variable::string("kinematics", "finite", "`finite` (the default: total Lagrangian, plane-strain neo-Hookean contents in either formulation, membranes at finite strain, the diaphragm contracting; Newton's method in each Houbolt/Newmark step; needs tri6) or `linear` (small strain: the fast opt-in, valid while strains stay below 5 %, which the default press exceeds; modal order needs it)"),
         Variable::parameter("mesh_subdivisions", Fixed, "1", 0.0, (0.0, 4.0), "times every triangle of the mesh of target_triangles is split into four (new boundary nodes on the curve): nested meshes with 4^n times the triangles, for convergence studies"),
-        Variable::parameter("mesh_grading", Fixed, "1", 0.0, (0.0, 0.5), "exponent β of the boundary spacing h·(s/R)^β towards the ends of the boundary parts (R = 60 mm), where stresses are singular: 0 uniform; 0.5 gives the 6-node triangle second-order stresses under refinement (Richardson references)"),
+        Variable::parameter("mesh_grading", Fixed, "1", 0.5, (0.0, 0.5), "exponent β of the boundary spacing h·(s/R)^β towards the ends of the boundary parts (R = 60 mm), where stresses are singular: 0 uniform; 0.5 gives the 6-node triangle second-order stresses under refinement (Richardson references)"),
+        Variable::string("costal_margin", "fixed", "where the abdominal wall meets the diaphragm: `fixed` (the rib cage, to which both attach, held: the default) or `free` (seed 003: the junction moves with the tissues; at finite strain the wall then works as a column in compression and buckles under the press)"),
     ]);
-    debug_assert_eq!(t.len(), GRADING as usize + 1);
+    debug_assert_eq!(t.len(), COSTAL_MARGIN as usize + 1);
     t
 }

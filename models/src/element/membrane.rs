@@ -1,0 +1,444 @@
+//! The line elements at finite strain (issue 26): diaphragm, abdominal wall and pelvic floor
+//! as total Lagrangian membranes in the plane (a sheet of unit depth seen edge-on), for the
+//! 2-node ([`super::line2`]) and 3-node ([`super::line3`]) lines alike.
+//!
+//! **Kinematics.** A reference line X(ξ) = Σ N_a(ξ) X_a, ξ ∈ [−1, 1], with arc length dS =
+//! |X'(ξ)| dξ, deforms to x = Σ N_a (X_a + u_a). The stretch is λ = |dx/dS| and the unit
+//! tangent t = (dx/dS)/λ; rigid motions leave λ = 1 whatever the rotation.
+//!
+//! **Law.** Muscle sheets carry tension, not compression: their passive force is zero below
+//! their slack length (Zajac, Crit Rev Biomed Eng 17 (1989) 359–411), and a sheet without
+//! bending stiffness that were made to carry compression would wrinkle at the scale of its
+//! elements: pressed into a soft solid of modulus E_s it is unstable for every wavelength
+//! shorter than 2π N / E_s (measured: a passive diaphragm that carried the press as an arch
+//! wrinkled element by element at a fifth of the default press of the abdomen, and the
+//! diaphragm compressed by a fraction of a kilopascal at the end of a press made the
+//! tangent indefinite on a graded mesh). The law is therefore Hencky's (logarithmic
+//! strain) in tension and slack in compression — the relaxed energy of a membrane, whose
+//! wrinkles it smears out (tension-field theory; Pipkin, IMA J Appl Math 36 (1986) 85–99)
+//! — made smooth: with x = ln λ,
+//!
+//! P(λ) = E s(x) / λ,  s(x) = x for x ≥ 0,  s(x) = −δ (1 − e^{x/δ}) for x < 0,
+//!
+//! so that P is E ε at small strain (s'(0) = 1 from both sides: at rest the tangent is the
+//! linear element's), the compressive stress saturates at E δ, and the tangent
+//! dP/dλ = E (s'(x) − s(x)) / λ² is continuous. δ = [`SLACK`] = 10⁻³ (measured on the
+//! default abdomen: the exact kink, δ → 0, made Newton's method cycle in the first time step;
+//! δ = 10⁻⁴ failed a quarter into the press on the mixed element; δ = 10⁻² let the slack
+//! diaphragm carry enough compression to make the mixed element's tangent indefinite at the
+//! end of a press).
+//!
+//! **Active tension.** A muscle sheet may add a tension T (N per mm of depth, its
+//! contraction) to the passive force A P(λ), the same at every stretch: the line then pulls
+//! on its nodes along its current tangent, and a curved one presses on what lies on its
+//! concave side with T times its curvature (Laplace's law).
+//!
+//! **Forces and tangent** (A the reference cross-section per mm of depth, N = A P + T the
+//! force the line carries):
+//!
+//! f_a = ∫ N t N_a,S dS,
+//! K_ab = ∫ N_a,S N_b,S [A P'(λ) t tᵀ + (N/λ)(I − t tᵀ)] dS,
+//!
+//! the material part along the line and the geometric part across it: a membrane in tension
+//! resists transverse motion (a string under pressure takes a circular arc with tension
+//! p R), a straight one at rest does not (at λ = 1 without T the tangent is the linear
+//! element's). A slack line's geometric part is negative, N/λ ≥ −E A δ/λ; the tangent
+//! leaves it out (N is replaced by max(N, 0) there: the tension-field tangent), so that a
+//! line never makes the system matrix indefinite. The forces are exact, and so are the
+//! equilibria Newton's method converges to; only its rate near slack lines is linear.
+
+use nalgebra::{Matrix2, SMatrix, SVector, Vector2};
+
+use super::solid::Inverted;
+
+/// A quadrature rule on ξ ∈ [−1, 1]: points and weights (summing to 2).
+pub type Rule<const Q: usize> = [(f64, f64); Q];
+
+/// The one-point Gauss rule (exact for the 2-node line, whose stretch is constant).
+pub const GAUSS_1: Rule<1> = [(0.0, 2.0)];
+
+/// The three-point Gauss rule, exact for degree 5 (the 3-node line's small-strain
+/// stiffness has degree 2; at finite strain the integrand is not a polynomial).
+pub const GAUSS_3: Rule<3> = {
+    const X: f64 = 0.774_596_669_241_483_4; // √(3/5)
+    [(-X, 5.0 / 9.0), (0.0, 8.0 / 9.0), (X, 5.0 / 9.0)]
+};
+
+/// The compressive log strain δ at which a slack line's stress saturates (see the module
+/// documentation).
+pub const SLACK: f64 = 1e-3;
+
+/// s(x) and s'(x) of the law (see the module documentation).
+fn slack(x: f64) -> (f64, f64) {
+    if x >= 0.0 {
+        return (x, 1.0);
+    }
+    let e = (x / SLACK).exp();
+    (-SLACK * (1.0 - e), e)
+}
+
+/// Nominal stress P(λ) = E s(ln λ) / λ (MPa) at stretch `stretch`.
+pub fn nominal_stress(young: f64, stretch: f64) -> f64 {
+    young * slack(stretch.ln()).0 / stretch
+}
+
+/// dP/dλ = E (s'(x) − s(x)) / λ².
+pub fn nominal_tangent(young: f64, stretch: f64) -> f64 {
+    let (s, ds) = slack(stretch.ln());
+    young * (ds - s) / (stretch * stretch)
+}
+
+/// What a line is made of: Young's modulus `young` (MPa), reference cross-section `area`
+/// (mm² per mm of depth) and active tension `tension` (N per mm of depth).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Section {
+    pub young: f64,
+    pub area: f64,
+    pub tension: f64,
+}
+
+impl Section {
+    /// The force the line carries at stretch λ, N = A P(λ) + T (N per mm of depth).
+    pub fn force(&self, stretch: f64) -> f64 {
+        self.area * nominal_stress(self.young, stretch) + self.tension
+    }
+}
+
+/// A line element: its reference nodes, its shape-function derivatives dN/dξ and its
+/// quadrature rule.
+pub struct Line<'a, const N: usize, const Q: usize> {
+    pub nodes: &'a [[f64; 2]; N],
+    pub derivatives: fn(f64) -> [f64; N],
+    pub rule: &'a Rule<Q>,
+}
+
+/// What a quadrature point of a deformed line gives: dN_a/dS, the weight times dS/dξ, the
+/// stretch and the unit tangent.
+struct Point<const N: usize> {
+    gradients: [f64; N],
+    weight: f64,
+    stretch: f64,
+    tangent: Vector2<f64>,
+}
+
+impl<const N: usize, const Q: usize> Line<'_, N, Q> {
+    /// The quadrature points for node-major displacements `u` (2 dofs per node); a point
+    /// whose stretch is not positive (the line folded onto itself) is an error.
+    fn points<const D: usize>(&self, u: &SVector<f64, D>) -> Result<[Point<N>; Q], Inverted> {
+        debug_assert_eq!(D, 2 * N);
+        let mut out = [(); Q].map(|_| Point {
+            gradients: [0.0; N],
+            weight: 0.0,
+            stretch: 1.0,
+            tangent: Vector2::zeros(),
+        });
+        for (point, &(xi, w)) in out.iter_mut().zip(self.rule) {
+            let dn = (self.derivatives)(xi);
+            let (mut reference, mut current) = (Vector2::zeros(), Vector2::zeros());
+            for (a, d) in dn.iter().enumerate() {
+                let x = Vector2::from(self.nodes[a]);
+                reference += x * *d;
+                current += (x + Vector2::new(u[2 * a], u[2 * a + 1])) * *d;
+            }
+            let jacobian = reference.norm();
+            let stretch = current.norm() / jacobian;
+            if stretch.is_nan() || stretch <= 0.0 {
+                return Err(Inverted { j: stretch });
+            }
+            *point = Point {
+                gradients: dn.map(|d| d / jacobian),
+                weight: w * jacobian,
+                stretch,
+                tangent: current / current.norm(),
+            };
+        }
+        Ok(out)
+    }
+
+    /// Adds the internal force and, when asked, the tangent (with the geometric part of
+    /// tension only) of the line of `section` to `force` and `tangent` (see the module
+    /// documentation).
+    pub fn internal<const D: usize>(
+        &self,
+        u: &SVector<f64, D>,
+        section: Section,
+        force: &mut SVector<f64, D>,
+        mut tangent: Option<&mut SMatrix<f64, D, D>>,
+    ) -> Result<(), Inverted> {
+        for p in self.points(u)? {
+            let carried = section.force(p.stretch);
+            for (a, ga) in p.gradients.iter().enumerate() {
+                for i in 0..2 {
+                    force[2 * a + i] += p.weight * carried * p.tangent[i] * ga;
+                }
+            }
+            let Some(k) = tangent.as_deref_mut() else {
+                continue;
+            };
+            let tt = p.tangent * p.tangent.transpose();
+            let block = tt * (section.area * nominal_tangent(section.young, p.stretch))
+                + (Matrix2::identity() - tt) * (carried.max(0.0) / p.stretch);
+            for (a, ga) in p.gradients.iter().enumerate() {
+                for (b, gb) in p.gradients.iter().enumerate() {
+                    let mut view = k.fixed_view_mut::<2, 2>(2 * a, 2 * b);
+                    view += block * (p.weight * ga * gb);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The mean stress over the reference length, (1/L) ∫ N(λ) / A dS (MPa, tension > 0):
+    /// the force per unit reference section the line carries on average, active tension
+    /// included. At small strain without T it is E times the mean strain, the linear
+    /// elements' axial stress.
+    pub fn mean_stress<const D: usize>(
+        &self,
+        u: &SVector<f64, D>,
+        section: Section,
+    ) -> Result<f64, Inverted> {
+        let (mut integral, mut length) = (0.0, 0.0);
+        for p in self.points(u)? {
+            integral += section.force(p.stretch) * p.weight;
+            length += p.weight;
+        }
+        Ok(integral / (length * section.area))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::element::{line2, line3};
+
+    const E: f64 = 0.2;
+    const AREA: f64 = 4.0;
+    const PASSIVE: Section = Section {
+        young: E,
+        area: AREA,
+        tension: 0.0,
+    };
+
+    /// A 3-node line along 30° from (1, 2), length 3, and its 2-node chord.
+    fn line() -> [[f64; 2]; 3] {
+        let c = [30f64.to_radians().cos(), 30f64.to_radians().sin()];
+        [0.0, 1.5, 3.0].map(|s| [1.0 + s * c[0], 2.0 + s * c[1]])
+    }
+
+    fn chord() -> [[f64; 2]; 2] {
+        let p = line();
+        [p[0], p[2]]
+    }
+
+    /// A displacement with stretch (1.1 to 1.4 along the line), bending and rotation.
+    fn some_u<const D: usize>() -> SVector<f64, D> {
+        let n = D / 2;
+        let p = line();
+        let (a, b) = (p[0], p[2]);
+        SVector::from_fn(|r, _| {
+            let s = (r / 2) as f64 / (n - 1) as f64;
+            let x = [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])];
+            let shear = 0.3 * ((r * 7919 + 13) % 97) as f64 / 97.0;
+            (0.25 + 0.05 * s) * (x[r % 2] - a[r % 2]) + shear
+        })
+    }
+
+    fn forces_of<const N: usize, const Q: usize, const D: usize>(
+        line: &Line<'_, N, Q>,
+        u: &SVector<f64, D>,
+        section: Section,
+    ) -> (SVector<f64, D>, SMatrix<f64, D, D>) {
+        let (mut f, mut k) = (SVector::zeros(), SMatrix::zeros());
+        line.internal(u, section, &mut f, Some(&mut k)).unwrap();
+        (f, k)
+    }
+
+    fn forces<const N: usize, const Q: usize, const D: usize>(
+        line: &Line<'_, N, Q>,
+        u: &SVector<f64, D>,
+    ) -> (SVector<f64, D>, SMatrix<f64, D, D>) {
+        forces_of(line, u, PASSIVE)
+    }
+
+    /// The tangent against central differences of the force (to 1e-6 of its largest entry),
+    /// passive and with an active tension.
+    fn check_tangent<const N: usize, const Q: usize, const D: usize>(line: &Line<'_, N, Q>) {
+        let u = some_u::<D>();
+        for tension in [0.0, 0.3] {
+            let section = Section { tension, ..PASSIVE };
+            let (_, k) = forces_of(line, &u, section);
+            let h = 1e-6;
+            for c in 0..D {
+                let (mut up, mut um) = (u, u);
+                up[c] += h;
+                um[c] -= h;
+                let column =
+                    (forces_of(line, &up, section).0 - forces_of(line, &um, section).0) / (2.0 * h);
+                let gap = (column - k.column(c)).amax() / k.amax();
+                assert!(gap < 1e-6, "T = {tension}, column {c}: {gap:e}");
+            }
+            assert!((k - k.transpose()).amax() < 1e-14 * k.amax(), "symmetric");
+        }
+    }
+
+    #[test]
+    fn the_tangents_are_the_derivatives_of_the_forces() {
+        check_tangent::<2, 1, 4>(&line2::membrane(&chord()));
+        check_tangent::<3, 3, 6>(&line3::membrane(&line()));
+    }
+
+    /// An active tension on a straight line at rest pulls its ends together along the line
+    /// with T and leaves its middle alone.
+    #[test]
+    fn an_active_tension_pulls_the_ends_of_a_straight_line() {
+        let p = line();
+        let section = Section {
+            tension: 0.7,
+            ..PASSIVE
+        };
+        let (f, _) = forces_of(&line3::membrane(&p), &line3::Dofs::zeros(), section);
+        let t = (Vector2::from(p[2]) - Vector2::from(p[0])).normalize();
+        let end = |a: usize| Vector2::new(f[2 * a], f[2 * a + 1]);
+        assert!((end(0) + t * 0.7).norm() < 1e-14 && (end(2) - t * 0.7).norm() < 1e-14);
+        assert!(end(1).norm() < 1e-14);
+        let mean = line3::membrane(&p)
+            .mean_stress(&line3::Dofs::zeros(), section)
+            .unwrap();
+        assert!((mean - 0.7 / AREA).abs() < 1e-15);
+    }
+
+    /// At rest the tangent is the small-strain element's stiffness, and a small displacement
+    /// gives its force to second order.
+    #[test]
+    fn at_small_strain_the_lines_are_the_linear_elements() {
+        let (p3, p2) = (line(), chord());
+        let (k3, k2) = (
+            line3::stiffness(&p3, E, AREA),
+            line2::stiffness(&p2, E, AREA),
+        );
+        let at_rest3 = forces(&line3::membrane(&p3), &line3::Dofs::zeros()).1;
+        let at_rest2 = forces(&line2::membrane(&p2), &line2::Dofs::zeros()).1;
+        assert!((at_rest3 - k3).amax() < 1e-14 * k3.amax());
+        assert!((at_rest2 - k2).amax() < 1e-14 * k2.amax());
+        let gap = |scale: f64| {
+            let u = some_u::<6>() * scale;
+            let f = forces(&line3::membrane(&p3), &u).0;
+            (f - k3 * u).amax() / (k3 * u).amax()
+        };
+        let (coarse, fine) = (gap(1e-3), gap(1e-4));
+        assert!(
+            coarse < 1e-2 && (fine / coarse - 0.1).abs() < 0.01,
+            "{coarse:e} {fine:e}"
+        );
+        let u = some_u::<6>() * 1e-7;
+        let mean = line3::membrane(&p3).mean_stress(&u, PASSIVE).unwrap();
+        let linear = line3::axial_stress(&p3, E, &u);
+        assert!(
+            (mean - linear).abs() < 1e-6 * linear.abs(),
+            "{mean:e} {linear:e}"
+        );
+    }
+
+    /// A prestressed line turned rigidly keeps its stress; its nodal forces turn with it.
+    #[test]
+    fn a_rigid_rotation_of_a_prestressed_line_leaves_its_force_unchanged() {
+        let p = line();
+        let stretched = line3::Dofs::from_fn(|r, _| 0.2 * (p[r / 2][r % 2] - p[0][r % 2]));
+        let element = line3::membrane(&p);
+        let (f0, _) = forces(&element, &stretched);
+        let s0 = element.mean_stress(&stretched, PASSIVE).unwrap();
+        assert!(
+            (s0 - nominal_stress(E, 1.2)).abs() < 1e-14,
+            "uniform stretch 1.2: {s0}"
+        );
+        for angle in [0.3, 1.7, -2.9] {
+            let r = nalgebra::Rotation2::new(angle).into_inner();
+            let turned = line3::Dofs::from_fn(|row, _| {
+                let a = row / 2;
+                let x = Vector2::from(p[a]) + Vector2::new(stretched[2 * a], stretched[2 * a + 1]);
+                (r * x)[row % 2] - p[a][row % 2]
+            });
+            let (f, _) = forces(&element, &turned);
+            let s = element.mean_stress(&turned, PASSIVE).unwrap();
+            assert!((s - s0).abs() < 1e-14 * s0, "{angle}: {s} vs {s0}");
+            for a in 0..3 {
+                let expected = r * Vector2::new(f0[2 * a], f0[2 * a + 1]);
+                let got = Vector2::new(f[2 * a], f[2 * a + 1]);
+                assert!(
+                    (got - expected).norm() < 1e-13 * f0.amax(),
+                    "{angle}: node {a}"
+                );
+            }
+        }
+    }
+
+    /// A compressed (slack) line: the tangent is the force's derivative without the negative
+    /// geometric part, and positive semidefinite.
+    #[test]
+    fn a_slack_line_has_the_tension_field_tangent() {
+        let p = line();
+        let element = line3::membrane(&p);
+        // Shortened to 0.9 of its length and bent.
+        let u = line3::Dofs::from_fn(|r, _| {
+            let a = r / 2;
+            -0.1 * (p[a][r % 2] - p[0][r % 2]) + if r == 3 { 0.2 } else { 0.0 }
+        });
+        let (f, k) = forces(&element, &u);
+        assert!(f.iter().all(|x| x.is_finite()));
+        let eigen = k.symmetric_eigenvalues();
+        assert!(eigen.min() > -1e-12 * eigen.max(), "{eigen}");
+        let h = 1e-7;
+        let mut fd = line3::Dofs::zeros();
+        let direction = line3::Dofs::from_fn(|r, _| if r == 3 { 1.0 } else { 0.0 });
+        fd += (forces(&element, &(u + direction * h)).0 - forces(&element, &(u - direction * h)).0)
+            / (2.0 * h);
+        // The omitted part is N/λ (I − t tᵀ) with |N| ≤ E A δ: below E A δ / 0.8 per unit.
+        let gap = (fd - k * direction).amax();
+        assert!(gap > 0.0 && gap < E * AREA * SLACK * 20.0, "{gap:e}");
+    }
+
+    #[test]
+    fn a_line_folded_onto_itself_is_refused() {
+        let p = chord();
+        let folded = line2::Dofs::new(0.0, 0.0, p[0][0] - p[1][0], p[0][1] - p[1][1]);
+        let mut f = line2::Dofs::zeros();
+        assert!(line2::membrane(&p)
+            .internal(&folded, PASSIVE, &mut f, None)
+            .is_err());
+    }
+
+    #[test]
+    fn the_law_is_hencky_in_tension_slack_in_compression_and_smooth() {
+        let e = 0.3;
+        assert_eq!((nominal_stress(e, 1.0), nominal_tangent(e, 1.0)), (0.0, e));
+        for stretch in [1.0 - 3.0 * SLACK, 1.0 - 1e-5, 1.0 + 1e-5, 1.3, 2.5] {
+            let h = 1e-8;
+            let fd = (nominal_stress(e, stretch + h) - nominal_stress(e, stretch - h)) / (2.0 * h);
+            let tangent = nominal_tangent(e, stretch);
+            assert!((fd - tangent).abs() < 1e-6 * e, "{stretch}: {fd} {tangent}");
+        }
+        for stretch in [1.3, 2.5] {
+            // Kirchhoff stress τ = λ P = E ln λ in tension.
+            assert!((stretch * nominal_stress(e, stretch) - e * stretch.ln()).abs() < 1e-15);
+        }
+        // Compressed well beyond δ the stress is −E δ / λ: what is left of the stiffness is
+        // E δ / λ², from the 1/λ of a nominal stress.
+        for stretch in [0.9, 0.5] {
+            let p = nominal_stress(e, stretch);
+            assert!(
+                (p * stretch + e * SLACK).abs() < 1e-12 * e,
+                "{stretch}: {p}"
+            );
+            let rest = e * SLACK / (stretch * stretch);
+            assert!(
+                (nominal_tangent(e, stretch) - rest).abs() < 1e-12 * e,
+                "{stretch}"
+            );
+        }
+        // At small strain, E ε on both sides to first order.
+        for eps in [-1e-6, 1e-6] {
+            let p = nominal_stress(e, 1.0 + eps);
+            assert!((p / (e * eps) - 1.0).abs() < 2e-3, "{eps}: {p}");
+        }
+    }
+}
