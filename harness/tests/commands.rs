@@ -333,6 +333,8 @@ fn the_quick_report_writes_every_section() {
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     for heading in [
         "## Verification",
+        "## Seed 003's findings on both kinematics",
+        "## The abdomen beside the body",
         "## Material identification on the shipped set C",
         "## Speed versus error, abdomen",
         "## Speed versus error, cut block",
@@ -351,6 +353,7 @@ fn the_quick_report_writes_every_section() {
             "identify_C_neo_hookean_tet10_profiles.png",
             "speed_error.csv",
             "pareto.png",
+            "physiology.png",
             "cutblock_speed_error.csv",
             "cutblock_pareto.png",
             "pelvis_sweep/report.md",

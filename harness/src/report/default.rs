@@ -8,13 +8,15 @@ use anyhow::Result;
 
 use super::identification;
 use super::{
-    blade_path, cut_speed_error, fields, model_order, speed_error, sweep, verification, Depth,
-    Report, Section,
+    blade_path, cut_speed_error, fields, findings, model_order, physiology, speed_error, sweep,
+    verification, Depth, Report, Section,
 };
 
 /// The default report's sections with their names, in order.
-pub const SECTIONS: [(&str, Section); 9] = [
+pub const SECTIONS: [(&str, Section); 11] = [
     ("verification", verification::section),
+    ("seed 003's findings", findings::section),
+    ("the abdomen beside the body", physiology::section),
     ("identification", identification::shipped),
     ("speed versus error, abdomen", speed_error::section),
     ("speed versus error, cut block", cut_speed_error::section),
@@ -33,8 +35,8 @@ pub const SECTIONS: [(&str, Section); 9] = [
 const QUICK: &str = "Quick report: every capability once, at settings chosen for time; each \
 section says what it ran and how accurate that is. `harness report --full` runs the converged \
 studies instead: both measurement sets with two models each, the abdomen's speed–error front \
-against a reference on 48,000 graded triangles, the cut block's against neo-Hookean tet10 on \
-twice the cells, and the shipped pelvis sweep in full against modal order.";
+against a reference on 48,000 graded triangles, the cut block's against a Richardson reference \
+on three graded neo-Hookean tet10 meshes, and the shipped pelvis sweep in full against modal order.";
 
 /// Writes the default report at `depth` into `out` and returns the path of its `report.md`.
 pub fn run(out: &Path, depth: Depth) -> Result<PathBuf> {

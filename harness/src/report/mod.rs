@@ -5,8 +5,9 @@
 //! markdown      Report: a folder and its report.md
 //! plot          charts and mesh maps (plotters)
 //! vtu           fields for ParaView (vtkio)
-//! sections      verification, identification, speed_error, cut_speed_error, blade_path,
-//!               sweep, model_order, fields: each adds itself to a Report at a Depth
+//! sections      verification, findings, physiology, identification, speed_error,
+//!               cut_speed_error, blade_path, sweep, model_order, fields: each adds itself
+//!               to a Report at a Depth
 //! default       the main job: every section on built-in defaults, listed once
 //! series        one run of a scene as a time-series CSV (`harness simulate`)
 //! variables     the variable reference of a scene (`harness describe`)
@@ -16,9 +17,11 @@ pub mod blade_path;
 pub mod cut_speed_error;
 pub mod default;
 pub mod fields;
+pub mod findings;
 pub mod identification;
 pub mod markdown;
 pub mod model_order;
+pub mod physiology;
 pub mod plot;
 pub mod series;
 pub mod speed_error;

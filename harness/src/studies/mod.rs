@@ -8,15 +8,19 @@
 //! - [`cut_speed_error`]: run time against error for the cut block's models;
 //! - [`blade_path`]: the cut block's outputs as the blade crosses it, on two meshes;
 //! - [`verification`]: the FE core and both scenes against analytical and seed results;
+//! - [`findings`]: seed 003's findings on the abdomen at small and finite strain;
+//! - [`physiology`]: the abdomen's static response beside published figures;
 //! - [`peer`]: the default abdomen's matrices and times for the peer benchmark (scipy, CHOLMOD);
 //! - [`fields`]: the displacement fields the reports draw and write for ParaView.
 
 pub mod blade_path;
 pub mod cut_speed_error;
 pub mod fields;
+pub mod findings;
 pub mod identify;
 pub mod measurements;
 pub mod peer;
+pub mod physiology;
 pub mod profiles;
 pub mod speed_error;
 pub mod verification;

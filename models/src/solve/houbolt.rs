@@ -193,6 +193,10 @@ impl Integrator for Houbolt {
         self.effective.iterations()
     }
 
+    fn newton_factorizations(&self) -> usize {
+        self.effective.factorizations()
+    }
+
     fn checkpoint(&self) -> Checkpoint {
         Checkpoint {
             history: self.back.to_vec(),

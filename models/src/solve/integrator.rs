@@ -191,6 +191,12 @@ pub trait Integrator {
         0
     }
 
+    /// Factorizations of the tangent in the last step's Newton iterations (0 when linear,
+    /// and for the explicit schemes).
+    fn newton_factorizations(&self) -> usize {
+        0
+    }
+
     /// Largest stable step for the prepared structure (undamped), or `None` if the scheme
     /// is unconditionally stable.
     fn critical_time_step(&self) -> Option<f64> {

@@ -112,4 +112,8 @@ impl Integrator for Newmark {
     fn newton_iterations(&self) -> usize {
         self.effective.iterations()
     }
+
+    fn newton_factorizations(&self) -> usize {
+        self.effective.factorizations()
+    }
 }

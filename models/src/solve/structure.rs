@@ -414,8 +414,9 @@ struct NewtonWork {
     /// The last Newton correction and the line search's trial state.
     correction: Vec<f64>,
     trial: Vec<f64>,
-    /// Iterations of the last step (0 for a linear structure).
+    /// Iterations and tangent factorizations of the last step (0 for a linear structure).
     iterations: usize,
+    factorizations: usize,
 }
 
 impl Effective {
@@ -446,6 +447,7 @@ impl Effective {
                 correction: vec![0.0; s.n()],
                 trial: vec![0.0; s.n()],
                 iterations: 0,
+                factorizations: 0,
             };
         }
         self.coefficients = (c_m, c_c);
@@ -502,6 +504,7 @@ impl Effective {
         let w = &mut self.newton;
         let (c_m, c_c) = self.coefficients;
         w.tangent(s, forces)?;
+        w.factorizations += 1;
         let ratio = diagonal_sum(s, &w.k_reduced).abs() / diagonal_sum(s, &s.m);
         let mut shift = 0.0;
         let mut attempt = 0;
@@ -548,6 +551,7 @@ impl Effective {
         let forces = forces.as_ref();
         let coefficients = self.coefficients;
         self.newton.target.copy_from_slice(x);
+        self.newton.factorizations = 0;
         x.copy_from_slice(guess);
         let (mut r, mut scale) = self.newton.residual(s, forces, coefficients, x)?;
         let mut previous = f64::INFINITY;
@@ -615,6 +619,11 @@ impl Effective {
     /// Newton iterations of the last step (0 for a linear structure).
     pub(crate) fn iterations(&self) -> usize {
         self.newton.iterations
+    }
+
+    /// Tangent factorizations of the last step (0 for a linear structure).
+    pub(crate) fn factorizations(&self) -> usize {
+        self.newton.factorizations
     }
 }
 

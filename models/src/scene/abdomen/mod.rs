@@ -152,6 +152,12 @@ impl Abdomen {
         Some(self.model.as_ref()?.integrator.newton_iterations())
     }
 
+    /// Tangent factorizations in the last time step's Newton iterations (0 at linear
+    /// kinematics), after initialization.
+    pub fn newton_factorizations(&self) -> Option<usize> {
+        Some(self.model.as_ref()?.integrator.newton_factorizations())
+    }
+
     /// Current simulation time (s).
     pub fn time(&self) -> f64 {
         self.time
