@@ -1,10 +1,12 @@
-//! The default cut block, fully cut, pulled 0 → 10 mm in one step (1 mm load increments):
+//! The default cut block, fully cut, pulled 0 → 10 mm in one step (load increments of
+//! `max_increment`):
 //! prints the time, the reaction, and the solver's work (increments, Newton iterations,
 //! factorizations, assembly / factorization / solve time). The timing companion of the
 //! `pull_to_10mm` benchmark.
 //!
-//! `cargo run --release -p models --example cutblock_pull -- [MATERIAL] [ELEMENT] [REFINE]`
-//! (defaults: neo-hookean tet10 1; REFINE multiplies the cells along each axis).
+//! `cargo run --release -p models --example cutblock_pull -- [MATERIAL] [ELEMENT] [REFINE]
+//! [MAX_INCREMENT]` (defaults: neo-hookean tet10 1 and the scene's `max_increment`; REFINE
+//! multiplies the cells along each axis).
 
 use std::time::Instant;
 
@@ -19,7 +21,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .get(3)
         .map_or(Ok(1.0), |v| v.parse())
         .map_err(|e| format!("REFINE must be a number: {e}"))?;
+    let max_increment: Option<f64> = args
+        .get(4)
+        .map(|v| v.parse())
+        .transpose()
+        .map_err(|e| format!("MAX_INCREMENT must be a number: {e}"))?;
     let mut s = CutBlock::new();
+    if let Some(m) = max_increment {
+        s.set("max_increment", m)?;
+    }
     for (name, value) in [("material", material), ("element", element)] {
         let vr = s.lookup(name)?;
         s.set_string(vr, value)?;
