@@ -182,7 +182,10 @@ impl TopSurface {
     }
 
     /// The section polyline of one flank with the plane x = `line`: deformed (y, z) points
-    /// in order of reference y.
+    /// in order of reference y. Each row of reference y is sampled every [`SAMPLE_X`]
+    /// within [`WINDOW`] of the line; the crossing is interpolated between the two samples
+    /// whose deformed x straddle the line, searched outwards from the previous row's
+    /// crossing (the first row's from x = `line`), so a row costs a few samples.
     fn section(&self, nodes: &[[f64; 3]], u: &[f64], line: f64, front: bool) -> Vec<[f64; 2]> {
         let (from, to) = if front {
             (0.0, self.y_cut)
@@ -193,24 +196,28 @@ impl TopSurface {
         let x_max = *self.x_planes.last().unwrap_or(&0.0);
         let (lo, hi) = ((line - WINDOW).max(0.0), (line + WINDOW).min(x_max));
         let columns = ((hi - lo) / SAMPLE_X).round() as usize;
+        let column_x = |c: usize| lo + (hi - lo) * c as f64 / columns.max(1) as f64;
+        let mut guess = (((line - lo) / (hi - lo).max(1e-300)) * columns as f64).round() as usize;
         let mut out = Vec::with_capacity(rows + 1);
         for r in 0..=rows {
             let y = from + (to - from) * r as f64 / rows.max(1) as f64;
-            let mut previous: Option<[f64; 3]> = None;
-            for c in 0..=columns {
-                let x = lo + (hi - lo) * c as f64 / columns.max(1) as f64;
-                let Some(p) = self.deformed(nodes, u, x, y, front) else {
-                    previous = None;
-                    continue;
-                };
-                if let Some(q) =
-                    previous.filter(|q| (q[0] - line) * (p[0] - line) <= 0.0 && q[0] != p[0])
-                {
+            // The segment between columns c − 1 and c, if it crosses the line.
+            let crossing = |c: usize| {
+                let q = self.deformed(nodes, u, column_x(c - 1), y, front)?;
+                let p = self.deformed(nodes, u, column_x(c), y, front)?;
+                ((q[0] - line) * (p[0] - line) <= 0.0 && q[0] != p[0]).then(|| {
                     let w = (line - q[0]) / (p[0] - q[0]);
-                    out.push([q[1] + w * (p[1] - q[1]), q[2] + w * (p[2] - q[2])]);
-                    break;
-                }
-                previous = Some(p);
+                    [q[1] + w * (p[1] - q[1]), q[2] + w * (p[2] - q[2])]
+                })
+            };
+            let start = guess.clamp(1, columns.max(1));
+            let outwards = (0..=columns).flat_map(|k| [start + k, start.wrapping_sub(k + 1)]);
+            let found = outwards
+                .filter(|&c| (1..=columns).contains(&c))
+                .find_map(|c| crossing(c).map(|point| (c, point)));
+            if let Some((c, point)) = found {
+                guess = c;
+                out.push(point);
             }
         }
         out
