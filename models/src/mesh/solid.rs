@@ -1,7 +1,5 @@
 //! 3D mesh: nodes, 4-node tetrahedra, boundary faces (derived), named node sets.
 
-use std::collections::HashMap;
-
 use super::{check_all_used, check_connectivity, NodeSets, DEGENERATE_TOL};
 use crate::element::tet4;
 use crate::error::ModelError;
@@ -61,26 +59,42 @@ impl Mesh3d {
         Ok(())
     }
 
-    /// Faces that belong to exactly one tetrahedron, in tetrahedron order.
+    /// Faces that belong to exactly one tetrahedron, in tetrahedron order: every face's
+    /// sorted node triple, sorted, so that a face shared by two tetrahedra is a run of two
+    /// (a sort instead of a hash map: this runs at every blade advance).
     fn find_boundary(&self) -> Vec<BoundaryFace> {
-        let mut count: HashMap<[usize; 3], u32> = HashMap::with_capacity(4 * self.tets.len());
-        let key = |f: [usize; 3]| {
-            let mut k = f;
-            k.sort_unstable();
-            k
-        };
-        let faces = || {
-            self.tets.iter().enumerate().flat_map(|(tet, t)| {
+        let faces: Vec<BoundaryFace> = self
+            .tets
+            .iter()
+            .enumerate()
+            .flat_map(|(tet, t)| {
                 TET_FACES.map(|f| BoundaryFace {
                     nodes: f.map(|i| t[i]),
                     tet,
                 })
             })
-        };
-        for f in faces() {
-            *count.entry(key(f.nodes)).or_default() += 1;
+            .collect();
+        let mut keys: Vec<([usize; 3], usize)> = faces
+            .iter()
+            .enumerate()
+            .map(|(i, f)| {
+                let mut k = f.nodes;
+                k.sort_unstable();
+                (k, i)
+            })
+            .collect();
+        keys.sort_unstable();
+        let mut single = vec![false; faces.len()];
+        for run in keys.chunk_by(|a, b| a.0 == b.0) {
+            if let [(_, i)] = run {
+                single[*i] = true;
+            }
         }
-        faces().filter(|f| count[&key(f.nodes)] == 1).collect()
+        faces
+            .into_iter()
+            .zip(single)
+            .filter_map(|(f, single)| single.then_some(f))
+            .collect()
     }
 
     /// Largest bounding-box side length.
