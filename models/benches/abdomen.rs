@@ -8,7 +8,7 @@
 
 use divan::Bencher;
 use models::scene::abdomen::Abdomen;
-use models::scene::{Causality, Scene};
+use models::scene::{Causality, Scene, SceneState};
 
 fn main() {
     divan::main();
@@ -43,15 +43,30 @@ fn outputs(s: &Abdomen, cavity: bool) -> Vec<u32> {
         .collect()
 }
 
-/// Steps the scene to `t` (the press rising) and returns it there.
-fn pressed(model: &str, until: f64) -> (Abdomen, f64) {
-    let mut s = initialized(model);
+/// Steps `s` to `until` (the press rising) and returns its saved state and time there.
+fn pressed(mut s: Abdomen, until: f64) -> (SceneState, f64) {
     let mut t = 0.0;
     while t < until - 1e-9 {
         s.do_step(t, DT).unwrap();
         t += DT;
     }
-    (s, t)
+    (s.save(), t)
+}
+
+/// Times `work` on a scene restored from `state` for each iteration (the restore, which
+/// rebuilds the model, outside the timing), so every iteration steps from the same state.
+fn from_state(bencher: Bencher, (state, t): &(SceneState, f64), work: impl Fn(&mut Abdomen, f64)) {
+    let t = *t;
+    bencher
+        .with_inputs(|| {
+            let mut s = Abdomen::new();
+            s.restore(state).unwrap();
+            s
+        })
+        .bench_local_values(|mut s| {
+            work(&mut s, t);
+            s
+        });
 }
 
 /// Configuration → outline → mesh → assembly → factorization (and for modal the basis, the
@@ -61,14 +76,12 @@ fn setup(bencher: Bencher, model: &str) {
     bencher.bench_local(|| initialized(model));
 }
 
-/// One Houbolt step of 10 ms half-way up the press (no outputs read).
+/// One Houbolt step of 10 ms half-way up the press (no outputs read), always from the
+/// same state.
 #[divan::bench(args = MODELS)]
 fn step(bencher: Bencher, model: &str) {
-    let (mut s, mut t) = pressed(model, 0.5);
-    bencher.bench_local(|| {
-        s.do_step(t, DT).unwrap();
-        t += DT;
-    });
+    let state = pressed(initialized(model), 0.5);
+    from_state(bencher, &state, |s, t| s.do_step(t, DT).unwrap());
 }
 
 /// One step and the outputs read: `floor` = all but the two cavity-wide von Mises
@@ -76,12 +89,12 @@ fn step(bencher: Bencher, model: &str) {
 /// = every output.
 #[divan::bench(args = MODELS, consts = [false, true])]
 fn step_with_outputs<const CAVITY: bool>(bencher: Bencher, model: &str) {
-    let (mut s, mut t) = pressed(model, 0.5);
+    let s = initialized(model);
     let vrs = outputs(&s, CAVITY);
-    let mut x = [0.0];
-    bencher.bench_local(|| {
+    let state = pressed(s, 0.5);
+    from_state(bencher, &state, |s, t| {
         s.do_step(t, DT).unwrap();
-        t += DT;
+        let mut x = [0.0];
         for &vr in &vrs {
             s.get_real(vr, &mut x).unwrap();
         }
@@ -191,15 +204,7 @@ mod discretizations {
 
     #[divan::bench(args = CASES, sample_count = 30)]
     fn step(bencher: Bencher, case: &str) {
-        let mut s = scene(case);
-        let mut t = 0.0;
-        while t < 0.5 - 1e-9 {
-            s.do_step(t, DT).unwrap();
-            t += DT;
-        }
-        bencher.bench_local(|| {
-            s.do_step(t, DT).unwrap();
-            t += DT;
-        });
+        let state = pressed(scene(case), 0.5);
+        from_state(bencher, &state, |s, t| s.do_step(t, DT).unwrap());
     }
 }

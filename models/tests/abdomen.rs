@@ -171,8 +171,8 @@ fn static_outputs_converge_at_the_elements_order_on_graded_meshes() {
 /// triangles (h halved twice): the floor midpoint's descent converges at the 6-node
 /// element's order 2 (measured 2.02), the apex faster (measured 3.43); the default mesh's
 /// static floor stress, mean and max, lies within 0.1 % of the finest (measured 0.05 % and
-/// 0.06 %; the speed–error section of the report puts the default run within 0.5 % of its
-/// dynamic reference).
+/// 0.06 %; `harness speed-error` puts the default run 0.39 % / 0.74 % from its dynamic
+/// reference on 48,998 triangles).
 #[test]
 fn the_finite_strain_default_converges_at_the_elements_order_on_graded_meshes() {
     let outputs = [750.0, 3000.0, 12000.0].map(|n| {
@@ -180,17 +180,21 @@ fn the_finite_strain_default_converges_at_the_elements_order_on_graded_meshes() 
         let u = s.static_displacement(0.8).unwrap();
         s.evaluate(&u, 0.8).unwrap()
     });
-    for (k, name, order) in [
-        (FLOOR_MID_UY, "floor midpoint", 2.0),
-        (APEX_UY, "apex", 3.0),
+    // The floor midpoint at the element's order (within 0.3 of it), the apex at least as
+    // fast.
+    for (k, name, order, within) in [
+        (FLOOR_MID_UY, "floor midpoint", 2.0, 0.3),
+        (APEX_UY, "apex", 3.0, f64::INFINITY),
     ] {
         let values = outputs.each_ref().map(|o| o[k]);
         let fit = richardson::extrapolate(values, 2.0).unwrap();
         println!("{name}: {values:?}, order {:.2}", fit.order);
-        assert!(fit.order > order - 0.3, "{name}: order {}", fit.order);
+        assert!(
+            fit.order > order - 0.3 && fit.order < order + within,
+            "{name}: order {}",
+            fit.order
+        );
     }
-    let floor_mid = richardson::extrapolate(outputs.each_ref().map(|o| o[FLOOR_MID_UY]), 2.0);
-    assert!((floor_mid.unwrap().order - 2.0).abs() < 0.3);
     for k in [FLOOR_MEAN, FLOOR_MAX] {
         let gap = (outputs[0][k] / outputs[2][k] - 1.0).abs();
         println!(

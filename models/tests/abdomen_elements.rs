@@ -295,6 +295,37 @@ fn the_largest_strain_of_a_uniform_strain_field_is_its_principal_strain() {
     }
 }
 
+/// The contents' mean pressure of a uniform plane-strain compression u = −ε x is Hooke's:
+/// σ_xx = σ_yy = −2(λ + μ)ε, σ_zz = −2λε, p = −(σ_xx + σ_yy + σ_zz)/3 = (4μ + 6λ)ε/3,
+/// on every triangle of either element (area-weighted mean of equal values).
+#[test]
+fn the_mean_pressure_of_a_uniform_compression_is_hookes() {
+    let (e, nu, eps) = (0.005, 0.45, 1e-3);
+    let (lambda, mu) = (
+        e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+        e / (2.0 * (1.0 + nu)),
+    );
+    let expected = (4.0 * mu + 6.0 * lambda) * eps / 3.0;
+    for element in ["tri3", "tri6"] {
+        let strings = [("element", element), ("kinematics", "linear")];
+        let reals = [
+            ("target_triangles", 300.0),
+            ("cavity_E", e),
+            ("cavity_nu", nu),
+        ];
+        let s = scene(&strings, &reals).unwrap();
+        let zero = s.static_displacement(0.0).unwrap();
+        let view = s.view(&zero).unwrap();
+        let nodes = view.quadratic.map_or(view.mesh.nodes(), |q| q.nodes());
+        let u: Vec<f64> = nodes.iter().flat_map(|x| x.map(|c| -eps * c)).collect();
+        let pressure = s.view(&u).unwrap().mean_pressure();
+        assert!(
+            (pressure / expected - 1.0).abs() < 1e-10,
+            "{element}: {pressure} vs {expected}"
+        );
+    }
+}
+
 #[test]
 fn the_scene_warns_once_where_it_leaves_its_validity() {
     let strain = |w: &[String]| w.iter().any(|m| m.contains("principal strain"));

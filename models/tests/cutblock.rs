@@ -425,10 +425,12 @@ fn a_block_above_the_memory_limit_is_refused_before_it_is_allocated() {
 /// cut pulled open at once (no node held), and a cut pulled open and then closed by a
 /// negative pull, with or without a press on the flank, ends as a cut closed at once (the
 /// same nodes held) — reaction and opening to 1e-9 — for the linear and the neo-Hookean
-/// law, with the full cut and with the front inside a cell of the uniform grid. Not yet:
-/// the neo-Hookean full cut closed without a press holds 60 nodes after the detour and 61
-/// straight (reaction 3e-7 apart): a node at the edge of a facet stays held after its
-/// projection slides off it (`FlankContact::detect`), and one that never was is not.
+/// law, with the full cut and with the front inside a cell of the uniform grid. Not yet to
+/// 1e-9: the neo-Hookean full cut closed without a press depends on the path by the spring
+/// linearizations (each made where its node was caught) and by a node at a facet's edge
+/// (kept held after its projection slides off, not taken up if never held): in 2.5 mm
+/// increments the same 60 nodes, the openings 1.4e-5 mm and the reactions 8e-8 apart (in
+/// 1 mm increments 60 against 61 nodes). That case is held to one node, 5e-5 mm and 1e-6.
 #[test]
 fn contact_does_not_depend_on_the_loading_history() {
     let mut failures = Vec::new();
@@ -470,16 +472,20 @@ fn contact_does_not_depend_on_the_loading_history() {
                 run(&[(-3.0, 0.5)]),
             ),
         ];
-        let known = |end: &str| material == "neo-hookean" && front == 100.0 && end == "closed";
-        for (end, history, straight) in pairs.into_iter().filter(|p| !known(p.0)) {
+        let known = material == "neo-hookean" && front == 100.0;
+        for (end, history, straight) in pairs {
             println!("{material}, front {front}, {end}: {history:?} vs straight {straight:?}");
-            let same = history[2] == straight[2]
+            // Held nodes, reaction (relative) and opening (relative, or in mm for the
+            // known case).
+            let (nodes, reaction, opening) = if known && end == "closed" {
+                (1.0, 1e-6 * straight[0].abs(), 5e-5)
+            } else {
+                (0.0, 1e-9 * straight[0].abs(), 1e-9 * straight[1].abs())
+            };
+            let same = (history[2] - straight[2]).abs() <= nodes
                 && (history[2] == 0.0) == (end == "opened")
-                && history
-                    .iter()
-                    .zip(&straight)
-                    .take(2)
-                    .all(|(a, b)| (a - b).abs() <= 1e-9 * b.abs());
+                && (history[0] - straight[0]).abs() <= reaction
+                && (history[1] - straight[1]).abs() <= opening;
             if !same {
                 failures.push(format!(
                     "{material}, front {front}, {end}: {history:?} vs straight {straight:?}"
@@ -631,4 +637,30 @@ fn a_pull_change_of_too_many_newton_increments_is_refused_by_name() {
     step(&mut s, &[("max_increment", 1.0 / MAX_INCREMENTS)]);
     assert!(get(&mut s, "reaction_force") > 0.0);
     assert_eq!(s.work().increments - before, MAX_INCREMENTS as u64);
+}
+
+/// The load increments are a path to the equilibrium, not part of it: the seed's scenario
+/// (full cut, 10 mm pull in one step) in increments of 1, 2.5 (the default) and 10 mm gives
+/// the same reaction, opening and lift to 1e-8, neo-Hookean and St. Venant–Kirchhoff.
+#[test]
+fn the_load_increment_does_not_change_the_equilibrium() {
+    for material in ["neo-hookean", "stvk"] {
+        let at = |max_increment: f64| {
+            let mut s = scene(
+                &[("max_increment", max_increment)],
+                &[("material", material)],
+            );
+            step(&mut s, &[("scalpel_x", 100.0), ("pull", 10.0)]);
+            ["reaction_force", "cut_opening", "bottom_lift"].map(|name| get(&mut s, name))
+        };
+        let default = at(2.5);
+        for max_increment in [1.0, 10.0] {
+            for (a, b) in at(max_increment).iter().zip(&default) {
+                assert!(
+                    (a - b).abs() <= 1e-8 * b.abs(),
+                    "{material}, max_increment {max_increment}: {a} vs {b}"
+                );
+            }
+        }
+    }
 }

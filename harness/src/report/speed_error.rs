@@ -21,14 +21,7 @@ pub fn section(report: &mut Report, depth: Depth) -> Result<()> {
         Depth::Quick => Study::quick(),
         Depth::Full => Study::default(),
     };
-    let total: usize = study
-        .discretizations
-        .iter()
-        .map(|d| d.targets.len())
-        .sum::<usize>()
-        * study.orders.len()
-        * study.integrators.len()
-        * study.steps.len();
+    let total = study.case_count();
     let bar = ProgressBar::new(total as u64 + 1).with_style(
         ProgressStyle::with_template("{bar:30} {pos}/{len} {elapsed_precise} {msg}")
             .expect("the template is valid"),
@@ -173,8 +166,10 @@ fn table(report: &mut Report, cases: &[Case]) {
 /// reference's own estimated error is not resolvable.
 fn recommendations(report: &mut Report, cases: &[Case], reference: &Reference) {
     let e = &reference.error;
+    // An error that could not be estimated (NaN) resolves nothing.
     let resolvable = (0..QUANTITIES.len())
         .map(|k| 2.0 * (e.mesh_error[k] + e.time_error[k]))
+        .map(|x| if x.is_nan() { f64::INFINITY } else { x })
         .fold(0.0, f64::max);
     let rows: Vec<Vec<String>> = TOLERANCES
         .iter()

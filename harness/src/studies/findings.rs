@@ -15,8 +15,8 @@ pub struct Case {
     pub settings: Vec<(&'static str, Value)>,
 }
 
-/// The cases: the five shipped configurations, then the wall braced (the default), free,
-/// and free and ten times stiffer on the normal pelvis.
+/// The cases: the five shipped configurations (the wall braced, the default), then the
+/// normal pelvis with the wall free, and free and ten times stiffer.
 pub fn cases() -> Vec<Case> {
     let text = |s: &str| Value::Text(s.into());
     let mut cases: Vec<Case> = CONFIGURATIONS

@@ -57,7 +57,7 @@ pub fn run() -> Result<Vec<Response>> {
             let length = diaphragm_length(&s);
             let points = PRESSES
                 .iter()
-                .map(|&press| point(&s, press, length).map_err(|e| format!("{e:#}")))
+                .map(|&press| point(&s, press, length).map_err(|e| format!("{press} N/mm: {e:#}")))
                 .collect();
             Ok(Response {
                 label,

@@ -104,6 +104,44 @@ impl Default for Study {
 }
 
 impl Study {
+    /// The cases the study runs, in order: every discretization and mesh, order (the
+    /// reduced orders only for linear kinematics), integrator and step.
+    fn settings(&self) -> Vec<Setting<'static>> {
+        let mut settings = Vec::new();
+        for d in &self.discretizations {
+            for &triangles in &d.targets {
+                // The reduced orders reduce the linear equation of motion.
+                let orders = self
+                    .orders
+                    .iter()
+                    .filter(|&&o| o == "full" || d.kinematics == "linear");
+                for &order in orders {
+                    for &integrator in &self.integrators {
+                        for &dt in &self.steps {
+                            settings.push(Setting {
+                                kinematics: d.kinematics,
+                                element: d.element,
+                                formulation: d.formulation,
+                                grading: d.grading,
+                                triangles,
+                                subdivisions: 0,
+                                order,
+                                integrator,
+                                dt,
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        settings
+    }
+
+    /// How many cases the study runs.
+    pub fn case_count(&self) -> usize {
+        self.settings().len()
+    }
+
     /// The quick report's study: the same model forms on their coarsest mesh, both orders
     /// and integrators at 10 and 20 ms, against a reference on 12,000 graded triangles whose
     /// own error is estimated as in the full study (its families: graded 750 / 3,000 /
@@ -338,8 +376,7 @@ pub fn reference(setting: ReferenceSetting, duration: f64) -> Result<Reference> 
     })
 }
 
-/// The static outputs of `setting`'s mesh and discretization under the default press
-/// amplitude.
+/// The static outputs of `setting`'s mesh and discretization under the press [`PEAK`].
 fn static_outputs(setting: Setting) -> Result<Vec<f64>> {
     let mut session = InProcess(Box::new(Abdomen::new()));
     for (name, value) in setting.values() {
@@ -353,7 +390,7 @@ fn static_outputs(setting: Setting) -> Result<Vec<f64>> {
 }
 
 /// Runs the study's cases against `reference`, reporting each finished case to `progress`.
-/// Steps longer than the sampling interval (10 ms) are refused.
+/// Steps that do not divide the sampling interval ([`SAMPLE`]) are refused.
 pub fn measure(
     study: &Study,
     reference: &Reference,
@@ -365,35 +402,8 @@ pub fn measure(
             "speed–error step dt = {dt} s must divide the sampling interval {SAMPLE} s"
         );
     }
-    let mut settings = Vec::new();
-    for d in &study.discretizations {
-        for &triangles in &d.targets {
-            // The reduced orders reduce the linear equation of motion.
-            let orders = study
-                .orders
-                .iter()
-                .filter(|&&o| o == "full" || d.kinematics == "linear");
-            for &order in orders {
-                for &integrator in &study.integrators {
-                    for &dt in &study.steps {
-                        settings.push(Setting {
-                            kinematics: d.kinematics,
-                            element: d.element,
-                            formulation: d.formulation,
-                            grading: d.grading,
-                            triangles,
-                            subdivisions: 0,
-                            order,
-                            integrator,
-                            dt,
-                        });
-                    }
-                }
-            }
-        }
-    }
     let mut cases = Vec::new();
-    for setting in settings {
+    for setting in study.settings() {
         let m = run(setting, study.duration)?;
         let errors: [f64; N] =
             std::array::from_fn(|k| relative_deviation(&m.histories[k], &reference.histories[k]));
@@ -614,6 +624,12 @@ mod tests {
         let mut seen = 0;
         let cases = measure(&study, &reference, |_| seen += 1).unwrap();
         assert_eq!((cases.len(), seen), (4, 4));
+        // The progress bar's total: the full study runs modal order for linear kinematics
+        // only (3 + 2 + 2 finite and 3 + 3 linear meshes, 2 orders for linear, 2
+        // integrators, 3 steps), the quick one on each form's coarsest mesh at 2 steps.
+        assert_eq!(study.case_count(), 4);
+        assert_eq!(Study::default().case_count(), (7 + 6 * 2) * 2 * 3);
+        assert_eq!(Study::quick().case_count(), (3 + 2 * 2) * 2 * 2);
         for pair in cases.chunks(2) {
             println!("{pair:?}");
             for k in 0..N {
