@@ -76,6 +76,17 @@ pub struct Inverted {
     pub j: f64,
 }
 
+impl Inverted {
+    /// J = det F itself if the point is admissible (J > 0), else the error.
+    pub fn check(j: f64) -> Result<f64, Inverted> {
+        if j > 0.0 {
+            Ok(j)
+        } else {
+            Err(Inverted { j })
+        }
+    }
+}
+
 /// The deformation gradient F = I + Σ_a u_a ⊗ ∇N_a.
 fn deformation<const N: usize, const D: usize>(
     u: &SVector<f64, D>,
@@ -116,10 +127,7 @@ pub fn internal<S: Shape<N>, const N: usize, const D: usize>(
         let grads = S::gradients(l, g);
         let f = deformation(u, &grads);
         if material.law.finite() {
-            let j = f.determinant();
-            if j.is_nan() || j <= 0.0 {
-                return Err(Inverted { j });
-            }
+            Inverted::check(f.determinant())?;
         }
         let scale = w * volume;
         let p = material.stress(&f) * scale;

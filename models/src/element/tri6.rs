@@ -146,10 +146,7 @@ pub fn internal(
         let (g, det) = gradients(p, l);
         let f = deformation_gradient(&g, u);
         if material.law.finite() {
-            let j = f.determinant();
-            if j.is_nan() || j <= 0.0 {
-                return Err(Inverted { j });
-            }
+            Inverted::check(f.determinant())?;
         }
         let scale = 0.5 * w * det;
         let stress = material.stress(&f) * scale;
@@ -280,10 +277,10 @@ fn mixed_points(p: &[[f64; 2]; 6], u: &Dofs) -> Result<[MixedPoint; 3], Inverted
             dv: 0.5 * w * det,
         }
     });
-    match points.iter().find(|q| q.j.is_nan() || q.j <= 0.0) {
-        Some(q) => Err(Inverted { j: q.j }),
-        None => Ok(points),
+    for q in &points {
+        Inverted::check(q.j)?;
     }
+    Ok(points)
 }
 
 /// The element's reference area V and mean volume ratio θ̄ = (1/V) ∫ J dV.
@@ -351,10 +348,7 @@ pub fn cauchy(
     if !material.law.finite() {
         return Ok(stress);
     }
-    let j = f.determinant();
-    if j.is_nan() || j <= 0.0 {
-        return Err(Inverted { j });
-    }
+    let j = Inverted::check(f.determinant())?;
     Ok(stress * f.transpose() / j)
 }
 
