@@ -100,7 +100,7 @@ pub fn lumped_mass(mesh: &QuadraticPlaneMesh, props: &PlaneProperties) -> Vec<f6
 }
 
 /// Adds an element's per-dof values to the global vector.
-fn scatter(global: &mut [f64], nodes: &[usize], values: &[f64]) {
+pub(crate) fn scatter(global: &mut [f64], nodes: &[usize], values: &[f64]) {
     for (a, &n) in nodes.iter().enumerate() {
         global[2 * n] += values[2 * a];
         global[2 * n + 1] += values[2 * a + 1];

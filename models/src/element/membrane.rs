@@ -141,10 +141,7 @@ impl<const N: usize, const Q: usize> Line<'_, N, Q> {
                 current += (x + Vector2::new(u[2 * a], u[2 * a + 1])) * *d;
             }
             let jacobian = reference.norm();
-            let stretch = current.norm() / jacobian;
-            if stretch.is_nan() || stretch <= 0.0 {
-                return Err(Inverted { j: stretch });
-            }
+            let stretch = Inverted::check(current.norm() / jacobian)?;
             *point = Point {
                 gradients: dn.map(|d| d / jacobian),
                 weight: w * jacobian,

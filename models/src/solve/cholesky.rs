@@ -301,7 +301,7 @@ impl Cholesky {
 }
 
 /// Diagonal entry A_jj of a matrix with sorted row indices.
-fn diagonal(a: SparseColMatRef<'_, usize, f64>, j: usize) -> f64 {
+pub(crate) fn diagonal(a: SparseColMatRef<'_, usize, f64>, j: usize) -> f64 {
     let s = a.symbolic();
     let (start, end) = (s.col_ptr()[j], s.col_ptr()[j + 1]);
     s.row_idx()[start..end]

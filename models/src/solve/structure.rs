@@ -630,13 +630,9 @@ impl Effective {
 /// The sum of the diagonal of a matrix on the structure's reduced pattern.
 fn diagonal_sum(s: &Structure, values: &[f64]) -> f64 {
     let p = s.dirichlet().symbolic();
+    let a = faer::sparse::SparseColMatRef::new(p.as_ref(), values);
     (0..p.ncols())
-        .map(|j| {
-            let (start, end) = (p.col_ptr()[j], p.col_ptr()[j + 1]);
-            p.row_idx()[start..end]
-                .binary_search(&j)
-                .map_or(0.0, |k| values[start + k])
-        })
+        .map(|j| super::cholesky::diagonal(a, j))
         .sum()
 }
 

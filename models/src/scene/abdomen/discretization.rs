@@ -21,7 +21,7 @@ use std::sync::Arc;
 
 use super::mesher::Meshed;
 use crate::assembly::plane::{self, PlaneProperties, Truss};
-use crate::assembly::quadratic_plane::{self, PlaneBody, SharedTension};
+use crate::assembly::quadratic_plane::{self, scatter, PlaneBody, SharedTension};
 use crate::assembly::Assembler;
 use crate::element::tri6::{self, Formulation};
 use crate::element::{line2, line3, tri3};
@@ -324,15 +324,6 @@ pub fn materials(props: &PlaneProperties) -> Vec<Material> {
         .iter()
         .map(|c| Material::new(Law::NeoHookean, c.elastic))
         .collect()
-}
-
-/// Adds an element's per-dof values (node-major, 2 per node) to the
-/// global vector.
-fn scatter(global: &mut [f64], nodes: &[usize], values: &[f64]) {
-    for (a, &n) in nodes.iter().enumerate() {
-        global[2 * n] += values[2 * a];
-        global[2 * n + 1] += values[2 * a + 1];
-    }
 }
 
 /// `corners` with the mid-edge nodes of the boundary edges (edges of one triangle) between
