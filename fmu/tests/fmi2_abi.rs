@@ -107,6 +107,54 @@ fn outputs_equal_the_in_process_scene_to_the_last_bit() {
     unsafe { fmi2FreeInstance(c) };
 }
 
+/// The hyper-reduced abdomen (trained at initialization, deterministically) through the C
+/// ABI equals the in-process scene to the last bit.
+#[test]
+fn the_reduced_abdomen_equals_the_in_process_scene_to_the_last_bit() {
+    use models::scene::abdomen::Abdomen;
+    let scalars = fmu::instance::fmi2_scalars(Abdomen::new().variables());
+    let vr = |name: &str| scalars.iter().position(|s| s.name == name).unwrap() as u32;
+    let name = CString::new("reduced").unwrap();
+    let token = CString::new(MODELS[0].token()).unwrap();
+    let c = unsafe { fmi2Instantiate(name.as_ptr(), 1, token.as_ptr(), null(), null(), 0, 0) };
+    assert!(!c.is_null());
+    let reduced = CString::new("reduced").unwrap();
+    let mut scene = Abdomen::new();
+    scene.set_str("model_order", "reduced").unwrap();
+    scene.set("target_triangles", 200.0).unwrap();
+    scene.initialize(0.0).unwrap();
+    unsafe {
+        assert_eq!(
+            fmi2SetString(c, &vr("model_order"), 1, &reduced.as_ptr()),
+            OK
+        );
+        assert_eq!(fmi2SetReal(c, &vr("target_triangles"), 1, &200.0), OK);
+        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), OK);
+        assert_eq!(fmi2EnterInitializationMode(c), OK);
+        assert_eq!(fmi2ExitInitializationMode(c), OK);
+    }
+    for k in 0..20 {
+        let t = f64::from(k) * 0.05;
+        assert_eq!(unsafe { fmi2DoStep(c, t, 0.05, 1) }, OK, "step {k}");
+        scene.do_step(t, 0.05).unwrap();
+        for name in [
+            "floor_stress_mean",
+            "floor_stress_max",
+            "apex_uy",
+            "cavity_vm_max",
+        ] {
+            let mut x = f64::NAN;
+            assert_eq!(unsafe { fmi2GetReal(c, &vr(name), 1, &mut x) }, OK);
+            assert_eq!(
+                x.to_bits(),
+                scene.get(name).unwrap().to_bits(),
+                "{name}, step {k}"
+            );
+        }
+    }
+    unsafe { fmi2FreeInstance(c) };
+}
+
 #[test]
 fn calls_in_the_wrong_state_and_bad_values_are_errors() {
     let c = instantiate();

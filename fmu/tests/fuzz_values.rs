@@ -41,7 +41,13 @@ fn choices(model: &str, name: &str) -> (&'static [&'static str], Option<&'static
             "euler",
         ),
         (_, "model_order") => (
-            &["full", "modal", "eigenmodes", "eigenmodes_truncated"],
+            &[
+                "full",
+                "modal",
+                "eigenmodes",
+                "eigenmodes_truncated",
+                "reduced",
+            ],
             "half",
         ),
         ("abdomen", "element") => (&["tri3", "tri6"], "tet4"),

@@ -1,8 +1,8 @@
 //! Abdomen scene benchmarks on the default configuration (6-node triangles graded towards
 //! the junctions, 1,013 of them; Houbolt at the default 10 ms step): the finite-strain
-//! default, the linear opt-in in full order and in modal order (80 load-dependent Ritz
-//! vectors); one step of each discretization and formulation; the FMU's default experiment
-//! as a scene run (2 s, 200 steps).
+//! default in full and in hyper-reduced order, the linear opt-in in full order and in modal
+//! order (80 load-dependent Ritz vectors); one step of each discretization and formulation;
+//! the FMU's default experiment as a scene run (2 s, 200 steps).
 //!
 //! Run: `cargo bench -p models --bench abdomen`.
 
@@ -14,17 +14,19 @@ fn main() {
     divan::main();
 }
 
-/// The model forms: the default (finite strain), and the linear opt-in in full and modal
-/// order.
-const MODELS: [&str; 3] = ["finite", "linear", "modal"];
+/// The model forms: the default (finite strain) in full and hyper-reduced order, and the
+/// linear opt-in in full and modal order.
+const MODELS: [&str; 4] = ["finite", "reduced", "linear", "modal"];
 
 /// The default step (s).
 const DT: f64 = 1e-2;
 
 fn initialized(model: &str) -> Abdomen {
     let mut s = Abdomen::new();
-    if model != "finite" {
-        s.set_str("kinematics", "linear").unwrap();
+    match model {
+        "finite" => {}
+        "reduced" => s.set_str("model_order", "reduced").unwrap(),
+        _ => s.set_str("kinematics", "linear").unwrap(),
     }
     if model == "modal" {
         s.set_str("model_order", "modal").unwrap();
@@ -69,16 +71,17 @@ fn from_state(bencher: Bencher, (state, t): &(SceneState, f64), work: impl Fn(&m
         });
 }
 
-/// Configuration → outline → mesh → assembly → factorization (and for modal the basis, the
-/// reduced system and the output rows).
-#[divan::bench(args = MODELS, sample_count = 20)]
+/// Configuration → outline → mesh → assembly → factorization (for modal the basis, the
+/// reduced system and the output rows; for reduced the training: static and dynamic
+/// finite-strain solves, POD, ECSW).
+#[divan::bench(args = MODELS, sample_count = 10)]
 fn setup(bencher: Bencher, model: &str) {
     bencher.bench_local(|| initialized(model));
 }
 
 /// One Houbolt step of 10 ms half-way up the press (no outputs read), always from the
-/// same state.
-#[divan::bench(args = MODELS)]
+/// same state (the restore of a reduced model trains it again: ten samples).
+#[divan::bench(args = MODELS, sample_count = 10, sample_size = 1)]
 fn step(bencher: Bencher, model: &str) {
     let state = pressed(initialized(model), 0.5);
     from_state(bencher, &state, |s, t| s.do_step(t, DT).unwrap());
@@ -87,7 +90,7 @@ fn step(bencher: Bencher, model: &str) {
 /// One step and the outputs read: `floor` = all but the two cavity-wide von Mises
 /// statistics (floor stresses, triangles along the floor, point displacements), `all`
 /// = every output.
-#[divan::bench(args = MODELS, consts = [false, true])]
+#[divan::bench(args = MODELS, consts = [false, true], sample_count = 10, sample_size = 1)]
 fn step_with_outputs<const CAVITY: bool>(bencher: Bencher, model: &str) {
     let s = initialized(model);
     let vrs = outputs(&s, CAVITY);
@@ -99,6 +102,24 @@ fn step_with_outputs<const CAVITY: bool>(bencher: Bencher, model: &str) {
             s.get_real(vr, &mut x).unwrap();
         }
     });
+}
+
+/// One press (2 s in 200 steps of 10 ms, the peak floor stress read at each) on a model set
+/// up outside the timing: the cost of the steps over a whole press, resting phases and the
+/// steep rise alike.
+#[divan::bench(args = MODELS, sample_count = 5, sample_size = 1)]
+fn press(bencher: Bencher, model: &str) {
+    bencher
+        .with_inputs(|| initialized(model))
+        .bench_local_values(|mut s| {
+            let vr = s.lookup("floor_stress_max").unwrap();
+            let mut x = [0.0];
+            for i in 0..200 {
+                s.do_step(f64::from(i) * DT, DT).unwrap();
+                s.get_real(vr, &mut x).unwrap();
+            }
+            s
+        });
 }
 
 /// The FMU's default experiment as a scene run: set-up, then one press (2 s) in 200 steps of

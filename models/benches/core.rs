@@ -219,14 +219,9 @@ mod plane2d_quadratic {
             return s;
         }
         let materials = Arc::from([Material::new(Law::NeoHookean, props.continua[0].elastic)]);
-        s.with_internal_forces(quadratic_plane::internal_forces(
-            mesh,
-            asm,
-            materials,
-            Formulation::Displacement,
-            Arc::from([]),
-            None,
-        ))
+        s.with_internal_forces(quadratic_plane::internal_forces(Arc::new(
+            quadratic_plane::BodyForces::triangles(mesh, asm, materials, Formulation::Displacement),
+        )))
     }
 
     #[divan::bench(args = [false, true])]

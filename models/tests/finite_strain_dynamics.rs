@@ -95,14 +95,9 @@ impl Cantilever {
             return s;
         }
         let (mesh, asm, materials) = (self.mesh.clone(), self.asm.clone(), self.materials.clone());
-        s.with_internal_forces(quadratic_plane::internal_forces(
-            mesh,
-            asm,
-            materials,
-            Formulation::Displacement,
-            Arc::from([]),
-            None,
-        ))
+        s.with_internal_forces(quadratic_plane::internal_forces(Arc::new(
+            quadratic_plane::BodyForces::triangles(mesh, asm, materials, Formulation::Displacement),
+        )))
     }
 
     /// A downward tip shear of resultant `force` (N/mm) on the free dofs.

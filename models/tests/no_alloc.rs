@@ -116,7 +116,12 @@ fn static_resolve_allocates_nothing() {
 
 #[test]
 fn abdomen_step_and_outputs_allocate_nothing() {
-    for (kinematics, order) in [("finite", "full"), ("linear", "full"), ("linear", "modal")] {
+    for (kinematics, order) in [
+        ("finite", "full"),
+        ("finite", "reduced"),
+        ("linear", "full"),
+        ("linear", "modal"),
+    ] {
         let mut s = Abdomen::new();
         s.set("target_triangles", 500.0).unwrap();
         s.set_str("kinematics", kinematics).unwrap();
@@ -211,7 +216,7 @@ fn newton_iterations_allocate_nothing() {
 #[test]
 fn finite_strain_steps_allocate_nothing() {
     use models::assembly::plane::{Continuum, PlaneProperties};
-    use models::assembly::quadratic_plane::{self, Formulation};
+    use models::assembly::quadratic_plane::{self, BodyForces, Formulation};
     use models::element::{Elastic, Law, Material};
     use models::mesh::{generate, QuadraticPlaneMesh};
     use std::sync::Arc;
@@ -246,14 +251,9 @@ fn finite_strain_steps_allocate_nothing() {
         Factorization::Simplicial,
     )
     .unwrap()
-    .with_internal_forces(quadratic_plane::internal_forces(
-        mesh,
-        asm,
-        materials,
-        Formulation::Displacement,
-        Arc::from([]),
-        None,
-    ));
+    .with_internal_forces(quadratic_plane::internal_forces(Arc::new(
+        BodyForces::triangles(mesh, asm, materials, Formulation::Displacement),
+    )));
     for kind in [IntegratorKind::Houbolt, IntegratorKind::Newmark] {
         let mut integ = kind.create();
         integ.prepare(&s, 1e-4).unwrap();

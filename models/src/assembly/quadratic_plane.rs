@@ -7,14 +7,16 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
-use nalgebra::SMatrix;
+use nalgebra::{SMatrix, SVector};
 
 use super::plane::{PlaneProperties, Truss};
 use super::Assembler;
+use crate::element::solid::Inverted;
 pub use crate::element::tri6::Formulation;
 use crate::element::{line3, tri6, Material};
 use crate::error::ModelError;
 use crate::mesh::QuadraticPlaneMesh;
+use crate::solve::ecsw::ElementForces;
 use crate::solve::newton::Equations;
 use crate::solve::structure::InternalForces;
 
@@ -159,6 +161,46 @@ impl SharedTension {
     }
 }
 
+impl PlaneBody<'_> {
+    /// Triangle `e`'s internal force and tangent at its nodal displacement (total
+    /// Lagrangian, plane strain, in the body's formulation).
+    fn triangle(
+        &self,
+        e: usize,
+        ue: &SVector<f64, 12>,
+        fe: &mut SVector<f64, 12>,
+        ke: Option<&mut SMatrix<f64, 12, 12>>,
+    ) -> Result<(), Inverted> {
+        let material = &self.materials[usize::from(self.mesh.triangle_regions()[e])];
+        tri6::internal_in(
+            self.formulation,
+            &self.mesh.triangle(e),
+            ue,
+            material,
+            fe,
+            ke,
+        )
+    }
+
+    /// Line `e`'s as a membrane carrying the active tension where its region is the active
+    /// one.
+    fn line(
+        &self,
+        e: usize,
+        ue: &SVector<f64, 6>,
+        fe: &mut SVector<f64, 6>,
+        ke: Option<&mut SMatrix<f64, 6, 6>>,
+    ) -> Result<(), Inverted> {
+        let region = self.mesh.line_regions()[e];
+        let tension = self
+            .active
+            .filter(|a| a.region == region)
+            .map_or(0.0, |a| a.tension);
+        let section = self.trusses[usize::from(region)].section(tension);
+        line3::membrane(&self.mesh.line(e)).internal::<6>(ue, section, fe, ke)
+    }
+}
+
 impl Equations for PlaneBody<'_> {
     fn add_internal(
         &mut self,
@@ -166,8 +208,8 @@ impl Equations for PlaneBody<'_> {
         f: &mut [f64],
         mut k: Option<&mut [f64]>,
     ) -> Result<(), ModelError> {
-        let (mesh, materials, trusses) = (self.mesh, self.materials, self.trusses);
-        let formulation = self.formulation;
+        let mesh = self.mesh;
+        let body = &*self;
         super::add_internal(
             mesh.triangles(),
             0,
@@ -175,50 +217,137 @@ impl Equations for PlaneBody<'_> {
             u,
             f,
             k.as_deref_mut(),
-            |e, ue, fe, ke| {
-                let material = &materials[usize::from(mesh.triangle_regions()[e])];
-                tri6::internal_in(formulation, &mesh.triangle(e), ue, material, fe, ke)
-            },
+            |e, ue, fe, ke| body.triangle(e, ue, fe, ke),
         )?;
         let first = mesh.triangles().len();
-        let active = self.active;
         super::add_internal(mesh.lines(), first, self.asm, u, f, k, |e, ue, fe, ke| {
-            let region = mesh.line_regions()[e];
-            let tension = active
-                .filter(|a| a.region == region)
-                .map_or(0.0, |a| a.tension);
-            let section = trusses[usize::from(region)].section(tension);
-            line3::membrane(&mesh.line(e)).internal::<6>(ue, section, fe, ke)
+            body.line(e, ue, fe, ke)
         })
     }
 }
 
-/// The internal forces of the body as a finite-strain structure's
-/// ([`crate::solve::Structure::with_internal_forces`]), owning what it reads; the lines of
-/// `active`'s region carry the tension it holds at each evaluation.
-pub fn internal_forces(
-    mesh: Arc<QuadraticPlaneMesh>,
-    asm: Arc<Assembler>,
-    materials: Arc<[Material]>,
-    formulation: Formulation,
-    trusses: Arc<[Truss]>,
-    active: Option<(u16, Arc<SharedTension>)>,
-) -> Arc<InternalForces> {
-    Arc::new(move |u, f, k| {
-        if let (Some((_, t)), Some(_)) = (&active, &k) {
-            t.tangent_taken();
-        }
-        PlaneBody {
-            mesh: &mesh,
-            asm: &asm,
-            materials: &materials,
+/// The finite-strain body owning what it reads: the internal forces of a dynamic
+/// structure ([`internal_forces`]) and, element by element, of its hyper-reduction
+/// ([`crate::solve::ecsw`]). The lines of `active`'s region carry the tension it holds at
+/// each evaluation.
+pub struct BodyForces {
+    pub mesh: Arc<QuadraticPlaneMesh>,
+    pub asm: Arc<Assembler>,
+    pub materials: Arc<[Material]>,
+    pub formulation: Formulation,
+    pub trusses: Arc<[Truss]>,
+    pub active: Option<(u16, Arc<SharedTension>)>,
+}
+
+impl BodyForces {
+    /// A body of triangles alone (no membranes, no active tension).
+    pub fn triangles(
+        mesh: Arc<QuadraticPlaneMesh>,
+        asm: Arc<Assembler>,
+        materials: Arc<[Material]>,
+        formulation: Formulation,
+    ) -> Self {
+        Self {
+            mesh,
+            asm,
+            materials,
             formulation,
-            trusses: &trusses,
-            active: active.as_ref().map(|(region, t)| Active {
+            trusses: Arc::from([]),
+            active: None,
+        }
+    }
+
+    /// The body with the active tension as it is now.
+    fn body(&self) -> PlaneBody<'_> {
+        PlaneBody {
+            mesh: &self.mesh,
+            asm: &self.asm,
+            materials: &self.materials,
+            formulation: self.formulation,
+            trusses: &self.trusses,
+            active: self.active.as_ref().map(|(region, t)| Active {
                 region: *region,
                 tension: t.get(),
             }),
         }
-        .internal(u, f, k)
+    }
+
+    /// The nodes of element `e` in the assembler's order: the triangles, then the lines.
+    fn nodes(&self, e: usize) -> &[usize] {
+        let triangles = self.mesh.triangles();
+        match triangles.get(e) {
+            Some(t) => t,
+            None => &self.mesh.lines()[e - triangles.len()],
+        }
+    }
+}
+
+impl ElementForces for BodyForces {
+    fn count(&self) -> usize {
+        self.mesh.triangles().len() + self.mesh.lines().len()
+    }
+
+    fn dofs(&self, e: usize, dofs: &mut Vec<usize>) {
+        dofs.clear();
+        dofs.extend(self.nodes(e).iter().flat_map(|n| [2 * n, 2 * n + 1]));
+    }
+
+    fn evaluate(
+        &self,
+        e: usize,
+        ue: &[f64],
+        fe: &mut [f64],
+        ke: Option<&mut [f64]>,
+    ) -> Result<(), ModelError> {
+        let body = self.body();
+        let triangles = self.mesh.triangles().len();
+        // Numbered within its kind, as the full assembly names an inverted element.
+        let inverted =
+            |element: usize| move |inv: Inverted| ModelError::Inverted { element, j: inv.j };
+        if e < triangles {
+            kernel::<12>(ue, fe, ke, |u, f, k| body.triangle(e, u, f, k)).map_err(inverted(e))
+        } else {
+            let line = e - triangles;
+            kernel::<6>(ue, fe, ke, |u, f, k| body.line(line, u, f, k)).map_err(inverted(line))
+        }
+    }
+
+    fn tangent_taken(&self) {
+        if let Some((_, t)) = &self.active {
+            t.tangent_taken();
+        }
+    }
+}
+
+/// An element kernel on fixed-size vectors called with slices (`ke` column-major).
+fn kernel<const D: usize>(
+    ue: &[f64],
+    fe: &mut [f64],
+    ke: Option<&mut [f64]>,
+    f: impl FnOnce(
+        &SVector<f64, D>,
+        &mut SVector<f64, D>,
+        Option<&mut SMatrix<f64, D, D>>,
+    ) -> Result<(), Inverted>,
+) -> Result<(), Inverted> {
+    let u = SVector::<f64, D>::from_column_slice(ue);
+    let mut force = SVector::<f64, D>::zeros();
+    let mut tangent = ke.as_ref().map(|_| SMatrix::<f64, D, D>::zeros());
+    f(&u, &mut force, tangent.as_mut())?;
+    fe.copy_from_slice(force.as_slice());
+    if let (Some(ke), Some(t)) = (ke, tangent) {
+        ke.copy_from_slice(t.as_slice());
+    }
+    Ok(())
+}
+
+/// The internal forces of the body as a finite-strain structure's
+/// ([`crate::solve::Structure::with_internal_forces`]).
+pub fn internal_forces(forces: Arc<BodyForces>) -> Arc<InternalForces> {
+    Arc::new(move |u, f, k| {
+        if k.is_some() {
+            forces.tangent_taken();
+        }
+        forces.body().internal(u, f, k)
     })
 }

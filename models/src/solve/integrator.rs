@@ -78,6 +78,30 @@ impl Checkpoint {
         }
     }
 
+    /// The checkpoint with every vector of its state and history (and its starter's) mapped
+    /// by `f` — a reduced model's state carried onto a new basis — the acceleration marked
+    /// stale and a kept tangent dropped (the integrator resumes on the matrix it is
+    /// prepared with).
+    pub fn map(&self, f: &mut dyn FnMut(&[f64]) -> Vec<f64>) -> Self {
+        let s = &self.state;
+        Self {
+            kind: self.kind,
+            dt: self.dt,
+            state: State {
+                t: s.t,
+                u: f(&s.u),
+                v: f(&s.v),
+                a: f(&s.a),
+                steps: s.steps,
+            },
+            history: self.history.iter().map(|h| f(h)).collect(),
+            start_steps: self.start_steps,
+            starter: self.starter.as_ref().map(|c| Box::new(c.map(f))),
+            stale: true,
+            tangent_at: None,
+        }
+    }
+
     /// Refuses a checkpoint of another scheme, step size or system size.
     pub(crate) fn check(&self, kind: IntegratorKind, dt: f64, n: usize) -> Result<(), ModelError> {
         let fits = self.kind == kind

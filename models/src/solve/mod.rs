@@ -1,9 +1,11 @@
 //! Linear solvers: sparse Cholesky, the static solve, eigenpairs by shift-invert Lanczos and
-//! modal reduction ([`lanczos`], [`modal`]), and the time integrators behind the
+//! modal reduction ([`lanczos`], [`modal`]), the hyper-reduced finite-strain forces
+//! ([`pod`] basis, [`ecsw`] weights), and the time integrators behind the
 //! [`Integrator`] trait (one file each: houbolt, newmark, central_difference, rk4).
 
 pub mod central_difference;
 pub mod cholesky;
+pub mod ecsw;
 pub mod houbolt;
 pub mod integrator;
 pub mod lanczos;
@@ -11,6 +13,7 @@ pub mod modal;
 pub mod newmark;
 pub mod newton;
 pub mod ordering;
+pub mod pod;
 mod product;
 pub mod rk4;
 pub mod spectrum;

@@ -51,6 +51,8 @@ pub enum Reduction {
     Eigenmodes,
     /// The lowest eigenmodes alone.
     Truncated,
+    /// Proper orthogonal decomposition of finite-strain training states ([`super::pod`]).
+    Pod,
 }
 
 /// An M-orthonormal, K-orthogonal reduction basis.
@@ -91,6 +93,11 @@ impl ModalBasis {
                 }
                 modes
             }
+            Reduction::Pod => {
+                return Err(ModelError::LinearAlgebra(
+                    "a POD basis is built from training states (solve::pod::basis)".into(),
+                ))
+            }
         };
         let (vectors, values) = ritz_diagonalized(s.stiffness(), vectors);
         Ok(Self {
@@ -99,6 +106,21 @@ impl ModalBasis {
             reduction,
             seconds: clock.elapsed().as_secs_f64(),
         })
+    }
+
+    /// A basis of given M-orthonormal, K-orthogonal columns with their Ritz values.
+    pub(super) fn from_parts(
+        vectors: Mat<f64>,
+        values: Vec<f64>,
+        reduction: Reduction,
+        seconds: f64,
+    ) -> Self {
+        Self {
+            vectors,
+            values,
+            reduction,
+            seconds,
+        }
     }
 
     /// Number of basis vectors.
@@ -120,14 +142,19 @@ impl ModalBasis {
     /// entries.
     pub fn reduce(&self, s: &Structure) -> Result<Structure, ModelError> {
         let (mut k, mut m, mut c) = (
-            galerkin(s.stiffness(), &self.vectors),
-            galerkin(s.mass(), &self.vectors),
-            galerkin(s.damping_matrix(), &self.vectors),
+            self.galerkin(s.stiffness()),
+            self.galerkin(s.mass()),
+            self.galerkin(s.damping_matrix()),
         );
         for a in [&mut k, &mut m, &mut c] {
             drop_round_off(a);
         }
         Structure::dense(k.as_ref(), m.as_ref(), c.as_ref())
+    }
+
+    /// Φᵀ A Φ for a sparse symmetric A on the free dofs, exactly symmetric.
+    pub fn galerkin(&self, a: SparseColMatRef<'_, usize, f64>) -> Mat<f64> {
+        galerkin(a, &self.vectors)
     }
 
     /// out = Φᵀ f (the generalized forces of a load on the free dofs).
@@ -181,7 +208,7 @@ fn append_correction(m: SparseColMatRef<'_, usize, f64>, basis: &mut Mat<f64>, m
 }
 
 /// Vᵀ A V for a sparse symmetric A, exactly symmetric.
-fn galerkin(a: SparseColMatRef<'_, usize, f64>, v: &Mat<f64>) -> Mat<f64> {
+pub(super) fn galerkin(a: SparseColMatRef<'_, usize, f64>, v: &Mat<f64>) -> Mat<f64> {
     let r = v.ncols();
     let mut av = Mat::zeros(v.nrows(), r);
     sparse_dense_matmul(av.as_mut(), Accum::Replace, a, v.as_ref(), 1.0, Par::Seq);

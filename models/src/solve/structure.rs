@@ -126,11 +126,32 @@ impl Structure {
         m: MatRef<'_, f64>,
         c: MatRef<'_, f64>,
     ) -> Result<Self, ModelError> {
+        Self::dense_on(k, m, c, |i, j| [k, m, c].iter().any(|a| a[(i, j)] != 0.0))
+    }
+
+    /// As [`dense`](Self::dense) on the pattern of every r × r entry: the structure of a
+    /// hyper-reduced finite-strain model, whose tangent is dense.
+    pub fn dense_full(
+        k: MatRef<'_, f64>,
+        m: MatRef<'_, f64>,
+        c: MatRef<'_, f64>,
+    ) -> Result<Self, ModelError> {
+        Self::dense_on(k, m, c, |_, _| true)
+    }
+
+    /// The dense structure whose pattern holds the diagonal and the entries (i < j) where
+    /// `entry(i, j)`.
+    fn dense_on(
+        k: MatRef<'_, f64>,
+        m: MatRef<'_, f64>,
+        c: MatRef<'_, f64>,
+        entry: impl Fn(usize, usize) -> bool,
+    ) -> Result<Self, ModelError> {
         let r = k.nrows();
         let mut elements: Vec<Vec<usize>> = (0..r).map(|i| vec![i]).collect();
         for j in 0..r {
             for i in 0..j {
-                if [k, m, c].iter().any(|a| a[(i, j)] != 0.0) {
+                if entry(i, j) {
                     elements.push(vec![i, j]);
                 }
             }

@@ -21,7 +21,7 @@ use std::sync::Arc;
 
 use super::mesher::Meshed;
 use crate::assembly::plane::{self, PlaneProperties, Truss};
-use crate::assembly::quadratic_plane::{self, scatter, PlaneBody, SharedTension};
+use crate::assembly::quadratic_plane::{self, scatter, BodyForces, PlaneBody, SharedTension};
 use crate::assembly::Assembler;
 use crate::element::tri6::{self, Formulation};
 use crate::element::{line2, line3, tri3};
@@ -29,7 +29,6 @@ use crate::element::{Law, Material};
 use crate::error::ModelError;
 use crate::mesh::{plane_dofs, Mesh2d, QuadraticPlaneMesh};
 use crate::scene::SceneError;
-use crate::solve::structure::InternalForces;
 use crate::stress::{LineStresses, PlaneStress, TriangleStresses};
 
 /// The cavity's element.
@@ -279,24 +278,25 @@ impl Discretization {
         }
     }
 
-    /// The internal forces at finite strain for `props` (None for linear kinematics), the
-    /// lines of region `region` carrying the active tension `tension` holds at each
-    /// evaluation.
-    pub fn internal_forces(
+    /// The finite-strain body for `props` (None for linear kinematics), the lines of region
+    /// `region` carrying the active tension `tension` holds at each evaluation: the internal
+    /// forces of the dynamic structure ([`quadratic_plane::internal_forces`]) and element by
+    /// element of its hyper-reduction.
+    pub fn body_forces(
         &self,
         props: &PlaneProperties,
         region: u16,
         tension: &Arc<SharedTension>,
-    ) -> Option<Arc<InternalForces>> {
+    ) -> Option<Arc<BodyForces>> {
         let q = self.quadratic.as_ref().filter(|_| self.choice.finite)?;
-        Some(quadratic_plane::internal_forces(
-            q.clone(),
-            self.asm.clone(),
-            materials(props).into(),
-            self.choice.formulation,
-            props.trusses.clone().into(),
-            Some((region, tension.clone())),
-        ))
+        Some(Arc::new(BodyForces {
+            mesh: q.clone(),
+            asm: self.asm.clone(),
+            materials: materials(props).into(),
+            formulation: self.choice.formulation,
+            trusses: props.trusses.clone().into(),
+            active: Some((region, tension.clone())),
+        }))
     }
 
     /// The finite-strain body for a static Newton solve (None for linear kinematics).

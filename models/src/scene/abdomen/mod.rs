@@ -14,6 +14,7 @@ pub mod mesher;
 mod model;
 mod outputs;
 mod state;
+pub mod training;
 mod validity;
 mod variables;
 
@@ -38,8 +39,8 @@ use crate::solve::{IntegratorKind, ModalBasis, Structure};
 
 /// What the scene is, in one line (the FMUs' `description`).
 pub const DESCRIPTION: &str = "2D midsagittal finite-element model of the abdominal cavity \
-(6- or 3-node triangles with line-element membranes; linear or finite strain; full or modal \
-order): pelvis/spine configuration, per-tissue stiffness, pressing force on the diaphragm, \
+(6- or 3-node triangles with line-element membranes; linear or finite strain; full, modal or \
+hyper-reduced order): pelvis/spine configuration, per-tissue stiffness, pressing force on the diaphragm, \
 pelvic-floor stress (seed 003 §5.4)";
 
 /// Most substeps one communication step may take: a step that would need more is refused
@@ -138,6 +139,38 @@ impl Abdomen {
         self.model.as_ref()?.modal.as_ref().map(|r| &r.basis)
     }
 
+    /// The hyper-reduction of `model_order = "reduced"` (its fit, range and training time),
+    /// after initialization.
+    pub fn hyper(&self) -> Option<&training::Hyper> {
+        self.model.as_ref()?.modal.as_ref()?.hyper.as_ref()
+    }
+
+    /// Starts the built model again, at rest at `start_time` under the press the inputs
+    /// now give (in equilibrium with it, as [`Scene::initialize`] does), without building
+    /// the mesh, the matrices or a reduced model's training again: a sweep over the press
+    /// reuses one build. A pending stiffness change is applied first; the warnings start
+    /// afresh with the run.
+    pub fn restart(&mut self, start_time: f64) -> Result<(), SceneError> {
+        if self.stiffness_changed {
+            self.update_stiffness()?;
+        }
+        self.warnings.clear();
+        let press = self.pressing();
+        let dt = self.values.real(MAX_STEP);
+        let m = self
+            .model
+            .as_mut()
+            .ok_or_else(|| SceneError::NotInitialized {
+                name: "restart".into(),
+            })?;
+        m.start(start_time, dt, |t| press.at(t))?;
+        self.time = start_time;
+        self.outputs = None;
+        self.warned_validity = false;
+        self.check_validity();
+        Ok(())
+    }
+
     /// The full-order equation of motion on the free dofs and the load of a unit pressing
     /// force (N on each free dof per N/mm), after initialization — in every model order, for
     /// solving the same system elsewhere (the peer benchmark exports it).
@@ -205,14 +238,13 @@ impl Abdomen {
 
     fn update_stiffness(&mut self) -> Result<(), SceneError> {
         let props = properties(&self.values)?;
-        let press = self.pressing().at(self.time);
         let m = self
             .model
             .as_mut()
             .ok_or_else(|| SceneError::NotInitialized {
                 name: "do_step".into(),
             })?;
-        m.set_properties(props, press)?;
+        m.set_properties(props)?;
         self.applied = Some(self.values.save());
         self.stiffness_changed = false;
         self.check_locking();
@@ -236,13 +268,16 @@ impl Abdomen {
 
     /// Once per run, the kinematics' validity warning ([`validity::kinematics`]).
     fn check_validity(&mut self) {
+        let press = self.pressing();
         let Some(m) = &mut self.model else {
             return;
         };
         if self.warned_validity {
             return;
         }
-        if let Some(w) = validity::kinematics(m, self.time) {
+        let warning = validity::kinematics(m, self.time)
+            .or_else(|| validity::training(m, press.extremes(), press.varying_frequency()));
+        if let Some(w) = warning {
             self.warned_validity = true;
             self.warnings.push(w);
         }
@@ -264,6 +299,21 @@ impl Press {
     fn at(self, t: f64) -> f64 {
         let phase = 2.0 * std::f64::consts::PI * self.frequency * t;
         self.force + self.amplitude * 0.5 * (1.0 - phase.cos())
+    }
+
+    /// The least and the largest force of the press.
+    fn extremes(self) -> [f64; 2] {
+        let other = self.force + self.amplitude;
+        [self.force.min(other), self.force.max(other)]
+    }
+
+    /// The frequency, 0 when the press is constant.
+    fn varying_frequency(self) -> f64 {
+        if self.amplitude == 0.0 {
+            0.0
+        } else {
+            self.frequency
+        }
     }
 }
 

@@ -1,21 +1,24 @@
 //! What the abdomen builds at initialization: the configuration resolved to an outline, the
 //! mesh, per-tissue properties, the assembled stiffness, mass and damping, the supports, the
 //! dynamic system with its integrator, the load pattern of the pressing force and the output
-//! plan — and for `model_order = "modal"` the reduced system ([`Modal`]) the integrator
-//! steps instead of the full one.
+//! plan — and for a reduced `model_order` the reduced system ([`Modal`]) the integrator
+//! steps instead of the full one: a modal basis at linear kinematics, the hyper-reduced
+//! model of [`super::training`] at finite strain.
 
 use super::config::PelvisConfig;
 use super::discretization::{self, Choice, Discretization, FieldView, Recovery};
 use super::mesher;
 use super::outputs::{self, Field, OutputPlan, Rows};
+use super::training::{self, Hyper, Range};
 use super::variables::{
     tissue_vr, CONFIGURATION, COSTAL_MARGIN, ELEMENT, FORMULATION, GRADING, INTEGRATOR, KINEMATICS,
-    MODEL_ORDER, MODES, SUBDIVISIONS, TARGET_TRIANGLES, TISSUES, WALL_SUPPORT,
+    MAX_STEP, MODEL_ORDER, MODES, SUBDIVISIONS, TARGET_TRIANGLES, TISSUES, TRAINING_FREQUENCY,
+    TRAINING_PRESS, WALL_SUPPORT,
 };
 use std::sync::Arc;
 
 use crate::assembly::plane::{Continuum, PlaneProperties, Truss};
-use crate::assembly::quadratic_plane::{Active, PlaneBody, SharedTension};
+use crate::assembly::quadratic_plane::{self, Active, BodyForces, PlaneBody, SharedTension};
 use crate::assembly::Dirichlet;
 use crate::element::Elastic;
 use crate::error::ModelError;
@@ -41,6 +44,12 @@ pub struct Model {
     /// N/mm), and the active tension the finite-strain forces read.
     theta: f64,
     tension: Arc<SharedTension>,
+    /// The finite-strain body (None at linear kinematics).
+    pub(super) body: Option<Arc<BodyForces>>,
+    /// What a hyper-reduced model is trained for, and the step of its dynamic training.
+    training: (Range, f64),
+    /// Whether the abdominal wall is held (the hyper-reduced model needs it).
+    fixed_wall: bool,
     fixed: Vec<usize>,
     /// The displacement of all dofs after the last step, valid when `expanded`.
     u_full: Vec<f64>,
@@ -61,9 +70,14 @@ pub struct Modal {
     pub basis: ModalBasis,
     pub structure: Structure,
     pub unit_load: Vec<f64>,
-    rows: Rows,
-    /// The largest principal strain of each basis vector, for [`Model::strain_bound`].
+    /// The outputs as rows in the coordinates (linear kinematics; at finite strain the
+    /// outputs are read from the expanded field).
+    rows: Option<Rows>,
+    /// The largest principal strain of each basis vector, for [`Model::strain_bound`]
+    /// (linear kinematics).
     strains: Vec<f64>,
+    /// The hyper-reduction of a finite-strain model.
+    pub hyper: Option<Hyper>,
     /// The `modes` parameter the basis was built with.
     count: usize,
 }
@@ -172,8 +186,10 @@ pub fn order(value: &str) -> Result<Option<Reduction>, SceneError> {
         "modal" => Ok(Some(Reduction::Ritz)),
         "eigenmodes" => Ok(Some(Reduction::Eigenmodes)),
         "eigenmodes_truncated" => Ok(Some(Reduction::Truncated)),
+        "reduced" => Ok(Some(Reduction::Pod)),
         other => Err(SceneError::Config(format!(
-            "model_order `{other}`: use `full`, `modal`, `eigenmodes` or `eigenmodes_truncated`"
+            "model_order `{other}`: use `full`, `modal`, `eigenmodes`, `eigenmodes_truncated` \
+             or `reduced`"
         ))),
     }
 }
@@ -230,8 +246,10 @@ impl Model {
         )?;
         structure.set_damping_matrix(&c);
         let tension = Arc::new(SharedTension::default());
-        if let Some(forces) = disc.internal_forces(&props, DIAPHRAGM, &tension) {
-            structure = structure.with_internal_forces(forces);
+        let body = disc.body_forces(&props, DIAPHRAGM, &tension);
+        if let Some(body) = &body {
+            structure =
+                structure.with_internal_forces(quadratic_plane::internal_forces(body.clone()));
         }
         let (unit_load, theta) = press_pattern(&disc, &props, structure.dirichlet())?;
         let kind = IntegratorKind::parse(values.string(INTEGRATOR)?)?;
@@ -249,6 +267,15 @@ impl Model {
             unit_load,
             theta,
             tension,
+            body,
+            training: (
+                Range {
+                    press: values.real(TRAINING_PRESS),
+                    frequency: values.real(TRAINING_FREQUENCY),
+                },
+                values.real(MAX_STEP),
+            ),
+            fixed_wall: values.string(WALL_SUPPORT)? == "fixed",
             fixed,
             modal: None,
         };
@@ -259,12 +286,14 @@ impl Model {
         Ok(model)
     }
 
-    /// The reduced system with a basis of `count` vectors for the pressing load's pattern,
-    /// for the current matrices.
+    /// The reduced system with a basis of (at most) `count` vectors for the current
+    /// matrices: for the pressing load's pattern at linear kinematics, by training at
+    /// finite strain ([`Reduction::Pod`]).
     fn reduced(&self, reduction: Reduction, count: usize) -> Result<Modal, SceneError> {
+        if reduction == Reduction::Pod {
+            return self.hyper_reduced(count);
+        }
         let basis = ModalBasis::new(&self.structure, reduction, count, &self.unit_load)?;
-        let mut unit_load = vec![0.0; basis.dim()];
-        basis.project(&self.unit_load, &mut unit_load);
         let mut u = vec![0.0; self.u_full.len()];
         let strains = (0..basis.dim())
             .map(|j| {
@@ -273,13 +302,58 @@ impl Model {
             })
             .collect();
         Ok(Modal {
-            rows: Rows::new(self.field(&self.u_full), &basis, self.structure.dirichlet()),
+            rows: Some(Rows::new(
+                self.field(&self.u_full),
+                &basis,
+                self.structure.dirichlet(),
+            )),
             strains,
             structure: basis.reduce(&self.structure)?,
-            unit_load,
+            unit_load: self.projected_load(&basis),
             basis,
             count,
+            hyper: None,
         })
+    }
+
+    /// The hyper-reduced finite-strain system ([`training`]).
+    fn hyper_reduced(&self, count: usize) -> Result<Modal, SceneError> {
+        let Some(body) = &self.body else {
+            return Err(SceneError::Config(
+                "model_order = \"reduced\" is the hyper-reduced finite-strain model: use \
+                 kinematics = \"finite\" (at linear kinematics model_order = \"modal\" is \
+                 the reduced model)"
+                    .into(),
+            ));
+        };
+        if !self.fixed_wall {
+            return Err(SceneError::Config(
+                "model_order = \"reduced\" needs abdominal_wall = \"fixed\" (the default): \
+                 the free wall, a membrane slack at rest, has no static equilibria to train \
+                 on, and trained on its dynamics alone the reduced model's floor stress was \
+                 up to 35 % off full order in the pelvis sweep; run the free wall in full \
+                 order"
+                    .into(),
+            ));
+        }
+        let (range, dt) = self.training;
+        let (basis, hyper) = training::train(self, body, range, dt, count)?;
+        Ok(Modal {
+            rows: None,
+            strains: Vec::new(),
+            structure: training::structure(&self.structure, &basis, &hyper.forces)?,
+            unit_load: self.projected_load(&basis),
+            basis,
+            count,
+            hyper: Some(hyper),
+        })
+    }
+
+    /// Φᵀ f of the unit pressing load.
+    fn projected_load(&self, basis: &ModalBasis) -> Vec<f64> {
+        let mut unit_load = vec![0.0; basis.dim()];
+        basis.project(&self.unit_load, &mut unit_load);
+        unit_load
     }
 
     /// Prepares the integrator for steps of `dt` and starts it at rest at `t0` in equilibrium
@@ -395,9 +469,9 @@ impl Model {
     /// In modal order, a bound of the largest principal strain that needs no expansion:
     /// Σ_j |q_j| · (largest strain of basis vector j) — the per-triangle measure is a
     /// seminorm of the strain, so the triangle inequality holds triangle by triangle. None in
-    /// full order.
+    /// full order and for the hyper-reduced finite-strain model.
     pub fn strain_bound(&self) -> Option<f64> {
-        let r = self.modal.as_ref()?;
+        let r = self.modal.as_ref().filter(|r| r.rows.is_some())?;
         let q = &self.integrator.state().u;
         Some(q.iter().zip(&r.strains).map(|(q, s)| q.abs() * s).sum())
     }
@@ -410,16 +484,18 @@ impl Model {
     /// The outputs after the last step (see [`OutputPlan::compute`]); the cavity-wide ones
     /// only if `cavity`.
     pub fn outputs(&mut self, press: f64, cavity: bool) -> [f64; outputs::COUNT] {
-        if cavity || self.modal.is_none() {
-            self.expand();
+        let rows = self.modal.as_mut().and_then(|r| r.rows.as_mut());
+        match rows {
+            Some(rows) => rows.evaluate(&self.integrator.state().u),
+            None => self.expand(),
         }
-        if let Some(r) = &mut self.modal {
-            r.rows.evaluate(&self.integrator.state().u);
+        if cavity {
+            self.expand();
         }
         let field = self.field(&self.u_full);
         let cavity = cavity.then_some(&field);
-        match &self.modal {
-            Some(r) => self.outputs.compute(&r.rows, cavity, press),
+        match self.modal.as_ref().and_then(|r| r.rows.as_ref()) {
+            Some(rows) => self.outputs.compute(rows, cavity, press),
             None => self.outputs.compute(&field, cavity, press),
         }
     }
@@ -444,14 +520,16 @@ impl Model {
     }
 
     /// Reassembles the stiffness for new properties and refactorizes the integrator's
-    /// effective matrix at its current step. A modal model rebuilds its basis and restarts
-    /// its integrator from the current state projected onto the new basis (q = Φᵀ M u, and
-    /// likewise the velocity), under the pressing force `press` acting now.
-    pub fn set_properties(&mut self, props: PlaneProperties, press: f64) -> Result<(), SceneError> {
+    /// effective matrix at its current step. A reduced model builds (or trains) its basis
+    /// again and carries its integrator's state and history onto it, each vector projected
+    /// (q = Φᵀ M u): the scheme goes on as the full one does, not from a restart.
+    pub fn set_properties(&mut self, props: PlaneProperties) -> Result<(), SceneError> {
         self.disc.stiffness(&props, &mut self.k);
         self.structure.set_stiffness(&self.k);
-        if let Some(forces) = self.disc.internal_forces(&props, DIAPHRAGM, &self.tension) {
-            self.structure.set_internal_forces(forces);
+        self.body = self.disc.body_forces(&props, DIAPHRAGM, &self.tension);
+        if let Some(body) = &self.body {
+            self.structure
+                .set_internal_forces(quadratic_plane::internal_forces(body.clone()));
         }
         self.recovery = self.disc.recovery(&props);
         self.props = props;
@@ -461,25 +539,26 @@ impl Model {
             self.integrator.prepare(&self.structure, dt)?;
             return Ok(());
         };
-        let state = self.integrator.state().clone();
-        let n = self.structure.n();
-        let (mut u, mut v) = (vec![0.0; n], vec![0.0; n]);
-        old.basis.expand(&state.u, &mut u);
-        old.basis.expand(&state.v, &mut v);
+        let checkpoint = self.integrator.checkpoint();
         let new = self.reduced(old.basis.reduction, old.count)?;
         let mass = self.structure.mass();
-        let (mut q, mut qv) = (vec![0.0; new.basis.dim()], vec![0.0; new.basis.dim()]);
-        new.basis.coordinates(mass, &u, &mut q);
-        new.basis.coordinates(mass, &v, &mut qv);
+        let mut u = vec![0.0; self.structure.n()];
+        let moved = checkpoint.map(&mut |q| {
+            old.basis.expand(q, &mut u);
+            let mut projected = vec![0.0; new.basis.dim()];
+            new.basis.coordinates(mass, &u, &mut projected);
+            projected
+        });
         self.integrator.prepare(&new.structure, dt)?;
-        let started = {
-            let mut load = pressing(|_| press, &new.unit_load, None);
-            self.integrator
-                .start(&new.structure, state.t, &q, &qv, &mut load)
-        };
+        let resumed = self.integrator.resume(&new.structure, &moved);
         self.modal = Some(new);
-        started?;
+        resumed?;
         Ok(())
+    }
+
+    /// The load pattern of a unit pressing force (free dofs).
+    pub fn unit_load(&self) -> &[f64] {
+        &self.unit_load
     }
 
     /// The diaphragm's active tension of the last step and the one its kept tangent was
@@ -493,45 +572,130 @@ impl Model {
     /// where it does not converge), the diaphragm contracting (force > 0) or drawn out.
     pub fn static_displacement(&self, force: f64) -> Result<Vec<f64>, SceneError> {
         let asm = &self.disc.asm;
+        if self.body.is_some() {
+            let mut states = self.static_ramp(&[force])?;
+            return Ok(states.pop().expect("one state per force"));
+        }
         let mut f = vec![0.0; self.disc.n_dofs()];
         self.structure.dirichlet().expand(&self.unit_load, &mut f);
-        let mut u = vec![0.0; f.len()];
-        let materials = discretization::materials(&self.props);
-        if let Some(body) = self.disc.body(&materials, &self.props) {
-            f.iter_mut().for_each(|x| *x *= force.min(0.0));
-            let mut newton = Newton::new(
-                asm,
-                &self.fixed,
-                Factorization::Simplicial,
-                Settings::default(),
-            )?;
-            let mut contracting = Contracting {
-                body,
-                tension: force.max(0.0) / self.theta,
-            };
-            newton.solve(&mut contracting, &mut u, &vec![0.0; f.len()], &f)?;
-            return Ok(u);
-        }
         f.iter_mut().for_each(|x| *x *= force);
+        let mut u = vec![0.0; f.len()];
         let mut statics = Statics::new(asm, &self.fixed, Factorization::Simplicial)?;
         statics.factorize(&self.k)?;
         statics.solve(asm.matrix(&self.k), &f, &mut u);
         Ok(u)
     }
+
+    /// At finite strain, the static displacements (all dofs) under the pressing forces
+    /// `forces` (N/mm) in turn, each solve by Newton's method from the last equilibrium.
+    pub fn static_ramp(&self, forces: &[f64]) -> Result<Vec<Vec<f64>>, SceneError> {
+        let materials = discretization::materials(&self.props);
+        let Some(body) = self.disc.body(&materials, &self.props) else {
+            return Err(SceneError::Config(
+                "a static ramp needs finite kinematics".into(),
+            ));
+        };
+        let asm = &self.disc.asm;
+        let mut unit = vec![0.0; self.disc.n_dofs()];
+        self.structure
+            .dirichlet()
+            .expand(&self.unit_load, &mut unit);
+        let mut newton = Newton::new(
+            asm,
+            &self.fixed,
+            Factorization::Simplicial,
+            Settings::default(),
+        )?;
+        let mut contracting = Contracting {
+            body,
+            from: 0.0,
+            to: 0.0,
+        };
+        let (mut u, zero) = (vec![0.0; unit.len()], vec![0.0; unit.len()]);
+        let mut states = Vec::with_capacity(forces.len());
+        for &force in forces {
+            let f: Vec<f64> = unit.iter().map(|x| x * force.min(0.0)).collect();
+            contracting.to = force.max(0.0) / self.theta;
+            newton.solve(&mut contracting, &mut u, &zero, &f)?;
+            contracting.from = contracting.to;
+            states.push(u.clone());
+        }
+        Ok(states)
+    }
+
+    /// The full model's states (all dofs) after each step of one press
+    /// F(t) = `amplitude` (1 − cos 2π `frequency` t)/2 from rest, stepped at `dt` by an
+    /// integrator of the model's kind, with F at each (finite-strain training).
+    pub fn press_run(
+        &self,
+        amplitude: f64,
+        frequency: f64,
+        dt: f64,
+    ) -> Result<(Vec<Vec<f64>>, Vec<f64>), SceneError> {
+        let (free, presses) =
+            self.press_states(&self.structure, &self.unit_load, amplitude, frequency, dt)?;
+        let bc = self.structure.dirichlet();
+        let states = free
+            .iter()
+            .map(|u| {
+                let mut all = vec![0.0; self.u_full.len()];
+                bc.expand(u, &mut all);
+                all
+            })
+            .collect();
+        Ok((states, presses))
+    }
+
+    /// The states (its own unknowns) of structure `s` — the full one or a reduced one, with
+    /// the unit load `unit` on its unknowns — after each step of one press as
+    /// [`press_run`](Self::press_run)'s, the diaphragm contracting, with F at each.
+    pub(super) fn press_states(
+        &self,
+        s: &Structure,
+        unit: &[f64],
+        amplitude: f64,
+        frequency: f64,
+        dt: f64,
+    ) -> Result<(Vec<Vec<f64>>, Vec<f64>), SceneError> {
+        let force =
+            |t: f64| amplitude * 0.5 * (1.0 - (2.0 * std::f64::consts::PI * frequency * t).cos());
+        let mut integrator = self.integrator.kind().create();
+        integrator.prepare(s, dt)?;
+        let contracting = Some((&*self.tension, self.theta));
+        let mut load = pressing(force, unit, contracting);
+        let rest = vec![0.0; s.n()];
+        integrator.start(s, 0.0, &rest, &rest, &mut load)?;
+        let steps = (1.0 / (frequency * dt)).ceil() as usize;
+        let (mut states, mut presses) = (Vec::with_capacity(steps), Vec::with_capacity(steps));
+        for _ in 0..steps {
+            step_halving(integrator.as_mut(), s, &mut load, dt, HALVINGS)?;
+            let state = integrator.state();
+            states.push(state.u.clone());
+            presses.push(force(state.t));
+        }
+        Ok((states, presses))
+    }
+
+    /// Sets the diaphragm's active tension of a pressing force `force` (N/mm; none when
+    /// drawn out), as the load of a step does.
+    pub fn set_press(&self, force: f64) {
+        self.tension.set(force.max(0.0) / self.theta);
+    }
 }
 
-/// The body at finite strain with the diaphragm contracting from rest to `tension` along
-/// Newton's load increments.
+/// The body at finite strain with the diaphragm's active tension going from `from` to `to`
+/// along Newton's load increments.
 struct Contracting<'a> {
     body: PlaneBody<'a>,
-    tension: f64,
+    from: f64,
+    to: f64,
 }
 
 impl Equations for Contracting<'_> {
     fn at_load_fraction(&mut self, s: f64) {
         self.body.active = Some(Active {
             region: DIAPHRAGM,
-            tension: s * self.tension,
+            tension: self.from + s * (self.to - self.from),
         });
     }
 

@@ -4,7 +4,9 @@
 //! - **locking**: the element at the contents' ν — `tri3` beyond 0.45 (at 0.49 the apex of
 //!   the scene moves 3 % less than on the mixed element), the displacement `tri6` beyond
 //!   0.499 (`tests/locking.rs`, `abdomen_elements.rs`); the mixed element does not lock;
-//! - **linear kinematics**: a principal strain beyond [`SMALL_STRAIN_LIMIT`] (5 %).
+//! - **linear kinematics**: a principal strain beyond [`SMALL_STRAIN_LIMIT`] (5 %);
+//! - **the reduced model** (`model_order = "reduced"`): a press outside the range it is
+//!   trained for ([`super::training::Range`]).
 //!
 //! Finite kinematics has no limit of its own here: the membranes go slack in compression
 //! as thin sheets do ([`crate::element::membrane`]), and an element turned inside out or a
@@ -59,4 +61,11 @@ pub fn kinematics(model: &mut Model, time: f64) -> Option<String> {
             100.0 * SMALL_STRAIN_LIMIT
         )
     })
+}
+
+/// The reduced model's warning when the press, between `extremes` (N/mm) at `frequency`
+/// (Hz; 0 for a constant press), leaves the range it is trained for.
+pub fn training(model: &Model, extremes: [f64; 2], frequency: f64) -> Option<String> {
+    let hyper = model.modal.as_ref()?.hyper.as_ref()?;
+    hyper.range.check(extremes, frequency)
 }

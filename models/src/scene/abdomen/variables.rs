@@ -33,6 +33,9 @@ pub const SUBDIVISIONS: u32 = 43;
 pub const GRADING: u32 = 44;
 // Added by issue 26.
 pub const COSTAL_MARGIN: u32 = 45;
+// Added by issue 29.
+pub const TRAINING_PRESS: u32 = 46;
+pub const TRAINING_FREQUENCY: u32 = 47;
 
 /// Value reference of field `field` (0 E, 1 ν or area, 2 density, 3 damping) of a tissue.
 pub fn tissue_vr(tissue: usize, field: u32) -> u32 {
@@ -49,8 +52,8 @@ pub fn table() -> Vec<Variable> {
         Variable::string("integrator", "houbolt", "houbolt, newmark, central_difference or rk4"),
         Variable::parameter("max_step", Fixed, "s", 1e-2, (1e-8, 10.0), "largest internal time step; a communication step is split into equal substeps (at most 100000 per communication step)"),
         memory_limit(),
-        Variable::string("model_order", "full", "`full` (every dof); `modal`: `modes` load-dependent Ritz vectors of the pressing load (a Krylov basis holding its static response; within 1 % of full order at the default settings: docs/verification.md in the tissuefmu sources); `eigenmodes`: the lowest `modes` eigenmodes plus the load's static correction; `eigenmodes_truncated`: the eigenmodes alone"),
-        Variable::parameter("modes", Fixed, "1", 80.0, (1.0, 2000.0), "basis vectors of a reduced model order (modal, eigenmodes)"),
+        Variable::string("model_order", "full", "`full` (every dof); `modal`: `modes` load-dependent Ritz vectors of the pressing load (a Krylov basis holding its static response; within 1 % of full order at the default settings: docs/verification.md in the tissuefmu sources); `eigenmodes`: the lowest `modes` eigenmodes plus the load's static correction; `eigenmodes_truncated`: the eigenmodes alone (these three need kinematics = linear); `reduced`: the hyper-reduced finite-strain model (a POD basis of training states, ECSW-sampled elements; trained up to training_press and training_frequency, warns beyond)"),
+        Variable::parameter("modes", Fixed, "1", 80.0, (1.0, 2000.0), "basis vectors of a reduced model order (modal, eigenmodes; for reduced the most its POD may keep)"),
     ];
     let defaults = [(0.005, 0.49), (0.2, 4.0), (0.0225, 20.0), (0.05, 8.0)];
     for (i, name) in TISSUES.iter().enumerate() {
@@ -207,7 +210,9 @@ pub fn table() -> Vec<Variable> {
         Variable::parameter("mesh_subdivisions", Fixed, "1", 0.0, (0.0, 4.0), "times every triangle of the mesh of target_triangles is split into four (new boundary nodes on the curve): nested meshes with 4^n times the triangles, for convergence studies"),
         Variable::parameter("mesh_grading", Fixed, "1", 0.5, (0.0, 0.5), "exponent β of the boundary spacing h·(s/R)^β towards the ends of the boundary parts (R = 60 mm), where stresses are singular: 0 uniform; 0.5 gives the 6-node triangle second-order stresses under refinement (Richardson references)"),
         Variable::string("costal_margin", "fixed", "where the abdominal wall meets the diaphragm: `fixed` (the rib cage, to which both attach, held: the default) or `free` (seed 003: the junction moves with the tissues; at finite strain the wall then works as a column in compression and buckles under the press)"),
+        Variable::parameter("training_press", Fixed, "N/mm", 1.2, (1e-6, 1e3), "model_order = reduced: the largest total press the hyper-reduced model is trained for (static equilibria from 0 to it, and presses to 1/8, 3/8 and all of it at training_frequency); beyond it, or drawn out (negative), the run warns"),
+        Variable::parameter("training_frequency", Fixed, "Hz", 5.0, (1e-3, 1e3), "model_order = reduced: the highest press frequency the hyper-reduced model is trained for (its dynamic training presses have this frequency); beyond it the run warns"),
     ]);
-    debug_assert_eq!(t.len(), COSTAL_MARGIN as usize + 1);
+    debug_assert_eq!(t.len(), TRAINING_FREQUENCY as usize + 1);
     t
 }
