@@ -358,7 +358,7 @@ fn residual(g: MatRef<'_, f64>, w: &[f64], b: &[f64]) -> Vec<f64> {
 /// ‖G w − b‖ ≤ `tolerance` · ‖b‖ (the sparse NNLS of ECSW, Chapman, Avery, Collins & Farhat,
 /// IJNME 109 (2017) 1623–1654): columns enter the passive set one at a time, the one of
 /// largest gradient Gᵀ(b − G w) first, so the weights stay sparse. The least-squares
-/// problems on the passive set are solved with its QR factorization ([`PassiveQr`]), grown a
+/// problems on the passive set are solved with its QR factorization (`PassiveQr`), grown a
 /// column at a time and shrunk by Givens rotations. Without a tolerance it stops at the
 /// optimum (no column with a positive gradient left); the caller checks the residual.
 pub fn nnls(g: MatRef<'_, f64>, b: &[f64], tolerance: f64) -> Vec<f64> {

@@ -7,10 +7,10 @@
 //! presses F(t) = a (1 − cos 2π f t)/2 at the training frequency f, a = A/8, 3A/8 and A
 //! ([`DYNAMIC_SHARES`]), stepped by the model's integrator at the model's step (the inertia
 //! a fast press excites). Their POD in the energy inner product to [`POD_TOLERANCE`] is
-//! the basis ([`pod::basis`]); ECSW weights fitted to
-//! the reduced internal forces at the same states to [`ECSW_TOLERANCE`] sample the elements
-//! the online Newton iterations evaluate ([`ecsw`]). Mass and damping are projected
-//! exactly (they are linear); the pressing load is projected too.
+//! the basis ([`pod::basis`]); ECSW weights fitted to the reduced internal forces at the
+//! same states to [`ECSW_TOLERANCE`] sample the elements the online Newton iterations
+//! evaluate ([`crate::solve::ecsw`]). Mass and damping are projected exactly (they are
+//! linear); the pressing load is projected too.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -26,17 +26,17 @@ pub const STATIC_STATES: usize = 10;
 
 /// The dynamic training presses' amplitudes as shares of the training press: a fast press
 /// of a low amplitude excites other shapes than one of a high amplitude (measured
-/// 2026-11-26, one run each, POD to 1e-3: trained at the full amplitude only, 5 Hz presses to 1/6 and 2/3 of it came out
-/// 43 % and 6.3 % off in the floor's peak stress on the wide pelvis; with these three
-/// shares 0.45 % and 2.2 %).
+/// 2026-11-26, one run each, POD to 1e-3: trained at the full amplitude only, 5 Hz presses
+/// to 1/6 and 2/3 of it came out 43 % and 6.3 % off in the floor's peak stress on the wide
+/// pelvis; with these three shares 0.45 % and 2.2 %).
 pub const DYNAMIC_SHARES: [f64; 3] = [0.125, 0.375, 1.0];
 
 /// The POD keeps the vectors that leave at most this share of the training states out
 /// (energy norm, [`pod`]): 48 vectors on the default abdomen. Measured (2026-11-26, one run
-/// each) on 5 Hz presses, the
-/// error of the floor's peak stress does not fall steadily with the tolerance (1e-3, 3e-4,
-/// 2e-4, 1.5e-4: 2.1, 0.91, 0.26, 0.06 % on the normal pelvis at 0.8 N/mm; –, 1.28, 1.15,
-/// 1.48 % on the narrow one at 0.2 N/mm); slower presses are within 0.7 % from 3e-4 on.
+/// each) on 5 Hz presses, the error of the floor's peak stress does not fall steadily with
+/// the tolerance (1e-3, 3e-4, 2e-4, 1.5e-4: 2.1, 0.91, 0.26, 0.06 % on the normal pelvis at
+/// 0.8 N/mm; 1.09, 1.28, 1.15, 1.48 % on the narrow one at 0.2 N/mm); at 3e-4 the slower
+/// presses of the shipped configurations are within 0.65 %.
 pub const POD_TOLERANCE: f64 = 3e-4;
 
 /// The ECSW weights reproduce the reduced training forces to this share (root mean square
