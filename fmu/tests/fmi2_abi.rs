@@ -108,7 +108,7 @@ fn outputs_equal_the_in_process_scene_to_the_last_bit() {
 }
 
 /// The hyper-reduced abdomen (trained at initialization, deterministically) through the C
-/// ABI equals the in-process scene to the last bit.
+/// ABI equals the in-process scene to the last bit, its error indicator too.
 #[test]
 fn the_reduced_abdomen_equals_the_in_process_scene_to_the_last_bit() {
     use models::scene::abdomen::Abdomen;
@@ -131,6 +131,10 @@ fn the_reduced_abdomen_equals_the_in_process_scene_to_the_last_bit() {
         assert_eq!(fmi2SetReal(c, &vr("target_triangles"), 1, &200.0), OK);
         assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), OK);
         assert_eq!(fmi2EnterInitializationMode(c), OK);
+        // An output read in Initialization Mode: the state at rest has no residual.
+        let mut eta = f64::NAN;
+        assert_eq!(fmi2GetReal(c, &vr("error_indicator"), 1, &mut eta), OK);
+        assert_eq!(eta, 0.0);
         assert_eq!(fmi2ExitInitializationMode(c), OK);
     }
     for k in 0..20 {
@@ -142,6 +146,7 @@ fn the_reduced_abdomen_equals_the_in_process_scene_to_the_last_bit() {
             "floor_stress_max",
             "apex_uy",
             "cavity_vm_max",
+            "error_indicator",
         ] {
             let mut x = f64::NAN;
             assert_eq!(unsafe { fmi2GetReal(c, &vr(name), 1, &mut x) }, OK);

@@ -319,13 +319,35 @@ impl Structure {
 
     /// Strain energy ½uᵀKu + kinetic energy ½vᵀMv (consistent mass), with the linear K.
     pub fn energy(&self, u: &[f64], v: &[f64], work: &mut [f64]) -> f64 {
-        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        0.5 * (self.quadratic(&self.k, u, work) + self.quadratic(&self.m, v, work))
+    }
+
+    /// uᵀKu with the linear K (for a finite-strain structure, the tangent at rest).
+    pub fn stiffness_norm_squared(&self, u: &[f64], work: &mut [f64]) -> f64 {
+        self.quadratic(&self.k, u, work)
+    }
+
+    /// xᵀAx for A given by its values on the reduced pattern.
+    fn quadratic(&self, a: &[f64], x: &[f64], work: &mut [f64]) -> f64 {
         work.fill(0.0);
-        self.product.mul_add(&self.k, u, 1.0, work);
-        let strain = dot(work, u);
-        work.fill(0.0);
-        self.product.mul_add(&self.m, v, 1.0, work);
-        0.5 * (strain + dot(work, v))
+        self.product.mul_add(a, x, 1.0, work);
+        work.iter().zip(x).map(|(w, x)| w * x).sum()
+    }
+
+    /// out = f − M a − C v − f_int(u): the residual of the equation of motion at the state
+    /// (u, v = u̇, a = ü) under the load f ([`unbalanced`](Self::unbalanced) less the
+    /// inertia). Allocates at finite strain.
+    pub fn equation_residual(
+        &self,
+        f: &[f64],
+        u: &[f64],
+        v: &[f64],
+        a: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), ModelError> {
+        self.unbalanced(f, u, v, out)?;
+        self.product.mul_add(&self.m, a, -1.0, out);
+        Ok(())
     }
 }
 

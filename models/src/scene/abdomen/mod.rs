@@ -25,9 +25,9 @@ use discretization::FieldView;
 use mesher::Meshed;
 use model::{properties, Model};
 use variables::{
-    table, COSTAL_MARGIN, ELEMENT, FIRST_OUTPUT, FORMULATION, INTEGRATOR, KINEMATICS, MAX_STEP,
-    MEMORY_LIMIT, MODEL_ORDER, PRESS_AMPLITUDE, PRESS_FORCE, PRESS_FREQUENCY, TISSUE_BASE,
-    WALL_SUPPORT,
+    table, COSTAL_MARGIN, ELEMENT, ERROR_INDICATOR, FIRST_OUTPUT, FORMULATION, INTEGRATOR,
+    KINEMATICS, MAX_STEP, MEMORY_LIMIT, MODEL_ORDER, PRESS_AMPLITUDE, PRESS_FORCE, PRESS_FREQUENCY,
+    TISSUE_BASE, WALL_SUPPORT,
 };
 
 use super::{
@@ -364,12 +364,19 @@ impl Scene for Abdomen {
         if self.values.read(vr, out)? {
             return Ok(());
         }
-        let press = self.pressing().at(self.time);
+        let pressing = self.pressing();
+        let (press, press_at) = (pressing.at(self.time), |t| pressing.at(t));
         let Some(m) = &mut self.model else {
             return Err(SceneError::NotInitialized {
                 name: self.values.variable(vr)?.name.clone(),
             });
         };
+        if vr == ERROR_INDICATOR {
+            // The load at integrator time τ is the press at FMI time τ + (t − t_integrator).
+            let offset = self.time - m.integrator.state().t;
+            out[0] = m.indicator(|tau| press_at(tau + offset))?;
+            return Ok(());
+        }
         let k = (vr - FIRST_OUTPUT) as usize;
         let cavity = outputs::CAVITY.contains(&k);
         let outputs = match &mut self.outputs {

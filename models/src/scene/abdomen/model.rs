@@ -25,8 +25,8 @@ use crate::error::ModelError;
 use crate::scene::{SceneError, Values};
 use crate::solve::newton::{Equations, Newton, Settings};
 use crate::solve::{
-    Checkpoint, Damping, Factorization, Integrator, IntegratorKind, ModalBasis, Reduction, Statics,
-    Structure,
+    Checkpoint, Damping, Factorization, Indicator, Integrator, IntegratorKind, ModalBasis, Motion,
+    Reduction, Statics, Structure,
 };
 
 /// Everything built at initialization.
@@ -61,6 +61,8 @@ pub struct Model {
     pub outputs: OutputPlan,
     /// The reduced system of `model_order = "modal"`.
     pub modal: Option<Modal>,
+    /// The error indicator, its stiffness factorized on first request.
+    indicator: Option<Indicator>,
 }
 
 /// The reduced-order system: the basis, the projected matrices, the projected unit load
@@ -278,6 +280,7 @@ impl Model {
             fixed_wall: values.string(WALL_SUPPORT)? == "fixed",
             fixed,
             modal: None,
+            indicator: None,
         };
         model.modal = match order(values.string(MODEL_ORDER)?)? {
             None => None,
@@ -476,6 +479,42 @@ impl Model {
         Some(q.iter().zip(&r.strains).map(|(q, s)| q.abs() * s).sum())
     }
 
+    /// The error indicator η of the state after the last step ([`Indicator`]): the full
+    /// model's residual there under the pressing force `force(τ)` at integrator time τ — the
+    /// modal coordinates expanded in a reduced order — relative to the displacement, in the
+    /// energy norm of the stiffness at rest. The first request factorizes that stiffness;
+    /// each costs one full-order evaluation of the internal forces and one solve.
+    pub fn indicator(&mut self, force: impl Fn(f64) -> f64) -> Result<f64, SceneError> {
+        let indicator = match &mut self.indicator {
+            Some(i) => i,
+            slot => slot.insert(Indicator::new(&self.structure)?),
+        };
+        let state = self.integrator.state();
+        let n = self.structure.n();
+        let expanded = |q: &[f64]| match &self.modal {
+            Some(r) => {
+                let mut x = vec![0.0; n];
+                r.basis.expand(q, &mut x);
+                x
+            }
+            None => q.to_vec(),
+        };
+        let (u, v, a) = (expanded(&state.u), expanded(&state.v), expanded(&state.a));
+        let contracting = self
+            .disc
+            .choice
+            .finite
+            .then_some((&*self.tension, self.theta));
+        let mut f = vec![0.0; n];
+        pressing(force, &self.unit_load, contracting)(state.t, &mut f);
+        let motion = Motion {
+            u: &u,
+            v: &v,
+            a: &a,
+        };
+        Ok(indicator.estimate(&self.structure, &f, motion)?)
+    }
+
     /// The displacement of all dofs as of the last [`expand`](Self::expand).
     pub fn u_full(&self) -> &[f64] {
         &self.u_full
@@ -534,6 +573,7 @@ impl Model {
         self.recovery = self.disc.recovery(&props);
         self.props = props;
         self.expanded = false;
+        self.indicator = None;
         let dt = self.integrator.dt();
         let Some(old) = &self.modal else {
             self.integrator.prepare(&self.structure, dt)?;

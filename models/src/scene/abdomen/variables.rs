@@ -36,6 +36,7 @@ pub const COSTAL_MARGIN: u32 = 45;
 // Added by issue 29.
 pub const TRAINING_PRESS: u32 = 46;
 pub const TRAINING_FREQUENCY: u32 = 47;
+pub const ERROR_INDICATOR: u32 = 48;
 
 /// Value reference of field `field` (0 E, 1 ν or area, 2 density, 3 damping) of a tissue.
 pub fn tissue_vr(tissue: usize, field: u32) -> u32 {
@@ -212,7 +213,8 @@ pub fn table() -> Vec<Variable> {
         Variable::string("costal_margin", "fixed", "where the abdominal wall meets the diaphragm: `fixed` (the rib cage, to which both attach, held: the default) or `free` (seed 003: the junction moves with the tissues; at finite strain the wall then works as a column in compression and buckles under the press)"),
         Variable::parameter("training_press", Fixed, "N/mm", 1.2, (1e-6, 1e3), "model_order = reduced: the largest total press the hyper-reduced model is trained for (static equilibria from 0 to it, and presses to 1/8, 3/8 and all of it at training_frequency); beyond it, or drawn out (negative), the run warns"),
         Variable::parameter("training_frequency", Fixed, "Hz", 5.0, (1e-3, 1e3), "model_order = reduced: the highest press frequency the hyper-reduced model is trained for (its dynamic training presses have this frequency); beyond it the run warns"),
+        Variable::output("error_indicator", "1", 1, "error indicator η of the current state: the full model's residual r = f − Mü − Cu̇ − f_int(u) there (a reduced order's coordinates expanded) as the static correction K₀⁻¹r it calls for, relative to the displacement, both in the energy norm of the stiffness at rest K₀ (exactly the relative error of a linear static state); at Newton's tolerance in full order, the reduction's error in a reduced one. Computed only when read: one full-order force evaluation and solve"),
     ]);
-    debug_assert_eq!(t.len(), TRAINING_FREQUENCY as usize + 1);
+    debug_assert_eq!(t.len(), ERROR_INDICATOR as usize + 1);
     t
 }

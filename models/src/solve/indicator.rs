@@ -1,0 +1,191 @@
+//! An error indicator for an approximate state of the full equation of motion — a reduced
+//! model's state expanded, or a state Newton's method stopped short of (issue 29, item 2).
+//!
+//! The residual of the full equations at a state (u, u̇, ü) at time t,
+//!
+//! r = f(t) − M ü − C u̇ − f_int(u),
+//!
+//! is measured by the displacement a static correction with the stiffness at rest K₀ would
+//! add, e = K₀⁻¹ r, relative to the displacement, both in the energy norm of K₀:
+//!
+//! η = ‖e‖_K₀ / ‖u‖_K₀ = √(rᵀ K₀⁻¹ r) / √(uᵀ K₀ u).
+//!
+//! For a linear static problem (K₀ u* = f, v = a = 0) e = u* − u is the error itself, so η
+//! is the relative energy-norm error exactly; for dynamics and finite strain it is the
+//! static, linearized measure of the same residual (the a-posteriori indicator of
+//! reduced-order models: the residual of the full equations at the expanded state, as in
+//! Farhat, Avery, Chapman & Cortial, IJNME 98 (2014) §6, made dimensionless by K₀).
+
+use super::cholesky::Cholesky;
+use super::structure::Structure;
+use crate::error::ModelError;
+
+/// K₀ of a structure factorized, and the work vectors of [`Indicator::estimate`].
+#[derive(Debug)]
+pub struct Indicator {
+    stiffness: Cholesky,
+    residual: Vec<f64>,
+    correction: Vec<f64>,
+}
+
+/// A state of the full structure on its free dofs: displacement, velocity, acceleration.
+#[derive(Debug, Clone, Copy)]
+pub struct Motion<'a> {
+    pub u: &'a [f64],
+    pub v: &'a [f64],
+    pub a: &'a [f64],
+}
+
+impl Indicator {
+    /// Factorizes the stiffness at rest of `s` (for a finite-strain structure its tangent
+    /// at rest, which [`Structure::stiffness`] holds).
+    pub fn new(s: &Structure) -> Result<Self, ModelError> {
+        let mut stiffness = s.analyze()?;
+        stiffness.factorize(s.stiffness())?;
+        Ok(Self {
+            stiffness,
+            residual: vec![0.0; s.n()],
+            correction: vec![0.0; s.n()],
+        })
+    }
+
+    /// η of the state `x` of `s` under the load `f` (free dofs, at the state's time); 0 for
+    /// the state at rest with no residual.
+    pub fn estimate(&mut self, s: &Structure, f: &[f64], x: Motion<'_>) -> Result<f64, ModelError> {
+        let n = s.n();
+        let lengths = [
+            ("f", f.len()),
+            ("u", x.u.len()),
+            ("v", x.v.len()),
+            ("a", x.a.len()),
+        ];
+        for (name, len) in lengths {
+            if len != n {
+                return Err(ModelError::SizeMismatch {
+                    name,
+                    expected: n,
+                    got: len,
+                });
+            }
+        }
+        s.equation_residual(f, x.u, x.v, x.a, &mut self.residual)?;
+        self.correction.copy_from_slice(&self.residual);
+        self.stiffness.solve_in_place(&mut self.correction);
+        let error = dot(&self.residual, &self.correction).max(0.0);
+        let size = s.stiffness_norm_squared(x.u, &mut self.residual);
+        Ok(if error == 0.0 {
+            0.0
+        } else {
+            (error / size).sqrt()
+        })
+    }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::Mat;
+
+    /// A symmetric positive definite 5 × 5 stiffness, a mass and a damping matrix.
+    fn structure() -> Structure {
+        let k = Mat::from_fn(5, 5, |i, j| match i.abs_diff(j) {
+            0 => 4.0 + i as f64,
+            1 => -1.0,
+            2 => 0.25,
+            _ => 0.0,
+        });
+        let m = Mat::from_fn(5, 5, |i, j| if i == j { 2.0 } else { 0.1 });
+        let c = Mat::from_fn(5, 5, |i, j| if i == j { 0.3 } else { 0.0 });
+        Structure::dense(k.as_ref(), m.as_ref(), c.as_ref()).unwrap()
+    }
+
+    fn norm_k(s: &Structure, x: &[f64]) -> f64 {
+        s.stiffness_norm_squared(x, &mut vec![0.0; x.len()]).sqrt()
+    }
+
+    #[test]
+    fn a_linear_static_state_gets_its_relative_energy_error() {
+        let s = structure();
+        let exact = [1.0, -2.0, 0.5, 3.0, -1.0];
+        let mut f = vec![0.0; 5];
+        s.residual(&[0.0; 5], &exact, &[0.0; 5], &mut f);
+        f.iter_mut().for_each(|x| *x = -*x); // f = K u*
+        let error = [0.1, 0.0, -0.3, 0.05, 0.2];
+        let u: Vec<f64> = exact.iter().zip(&error).map(|(x, e)| x + e).collect();
+        let zero = [0.0; 5];
+        let motion = Motion {
+            u: &u,
+            v: &zero,
+            a: &zero,
+        };
+        let eta = Indicator::new(&s)
+            .unwrap()
+            .estimate(&s, &f, motion)
+            .unwrap();
+        let expected = norm_k(&s, &error) / norm_k(&s, &u);
+        assert!(
+            (eta - expected).abs() <= 1e-12 * expected,
+            "{eta} vs {expected}"
+        );
+    }
+
+    #[test]
+    fn a_state_that_satisfies_the_equation_of_motion_gets_zero() {
+        let s = structure();
+        let (u, v, a) = (
+            [0.3, 0.1, -0.2, 0.4, 0.0],
+            [1.0, 2.0, 0.0, -1.0, 0.5],
+            [3.0; 5],
+        );
+        // f = M a + C v + K u, from the residual with f = 0: −(M a + C v + K u).
+        let mut f = vec![0.0; 5];
+        s.equation_residual(&[0.0; 5], &u, &v, &a, &mut f).unwrap();
+        f.iter_mut().for_each(|x| *x = -*x);
+        let motion = Motion {
+            u: &u,
+            v: &v,
+            a: &a,
+        };
+        let mut indicator = Indicator::new(&s).unwrap();
+        let eta = indicator.estimate(&s, &f, motion).unwrap();
+        assert!(eta <= 1e-14, "{eta}");
+        // Leaving out the inertia is an error the indicator sees.
+        let still = Motion {
+            a: &[0.0; 5],
+            ..motion
+        };
+        assert!(indicator.estimate(&s, &f, still).unwrap() > 0.1);
+    }
+
+    #[test]
+    fn vectors_of_the_wrong_length_are_refused_by_name() {
+        let s = structure();
+        let zero = [0.0; 5];
+        let short = Motion {
+            u: &zero,
+            v: &zero[..4],
+            a: &zero,
+        };
+        let err = Indicator::new(&s)
+            .unwrap()
+            .estimate(&s, &zero, short)
+            .unwrap_err();
+        assert_eq!(err.to_string(), "size mismatch for `v`: expected 5, got 4");
+        let rest = Motion {
+            u: &zero,
+            v: &zero,
+            a: &zero,
+        };
+        assert_eq!(
+            Indicator::new(&s)
+                .unwrap()
+                .estimate(&s, &zero, rest)
+                .unwrap(),
+            0.0
+        );
+    }
+}
