@@ -113,10 +113,16 @@ enum Command {
         #[arg(long, value_enum, default_value = "text")]
         format: variables::Format,
     },
-    /// The shipped pelvis sweep in full and modal order: wall times and peak differences
+    /// Model orders compared: the shipped configurations in full and hyper-reduced order at
+    /// finite strain and modal order at small strain (times, errors against full finite
+    /// strain, rankings, error indicators); the shipped pelvis sweep in full and modal order
+    /// at small strain (wall times and peak differences)
     ModelOrder {
         #[arg(long, default_value = "report/model_order")]
         out: PathBuf,
+        /// Only the configurations, as the quick report runs them (the sweep takes minutes)
+        #[arg(long)]
+        quick: bool,
     },
     /// The default abdomen's matrices, load and a Houbolt run for the peer benchmark
     /// (benches/peer/run.sh), with this project's step, solve and factorization times on them
@@ -226,11 +232,11 @@ fn run(cli: Cli) -> Result<Option<PathBuf>> {
             report::write(&out, "Verification", verification::section, Depth::Full)?
         }
         Command::Fields { out } => report::write(&out, "Fields", fields::section, Depth::Full)?,
-        Command::ModelOrder { out } => report::write(
+        Command::ModelOrder { out, quick } => report::write(
             &out,
-            "Full against modal order",
+            "Model orders",
             model_order::section,
-            Depth::Full,
+            if quick { Depth::Quick } else { Depth::Full },
         )?,
         Command::Describe { scene, format } => {
             print!("{}", variables::describe(&scene, format)?);

@@ -323,7 +323,7 @@ fn the_binary_runs_from_anywhere() {
 
 /// The main job (`harness report`, quick) writes every section with the files it links:
 /// both scenes, the seed findings, an identification with its JSON, both speed–error
-/// studies, both shipped sweeps, the fields, and the section times.
+/// studies, the model orders, both shipped sweeps, the fields, and the section times.
 #[test]
 fn the_quick_report_writes_every_section() {
     let tmp = tempfile::tempdir().unwrap();
@@ -339,6 +339,7 @@ fn the_quick_report_writes_every_section() {
         "## Speed versus error, abdomen",
         "## Speed versus error, cut block",
         "## Sweep `pelvis_sweep` (62 cases)",
+        "## The shipped configurations in three model orders",
         "## Sweep `pelvis_sweep` in full and modal order",
         "## Sweep `cutblock_sweep` (15 cases)",
         "## Fields",
@@ -357,6 +358,7 @@ fn the_quick_report_writes_every_section() {
             "cutblock_speed_error.csv",
             "cutblock_pareto.png",
             "pelvis_sweep/report.md",
+            "model_orders.csv",
             "cutblock_sweep/report.md",
             "abdomen_stress.png",
             "abdomen.vtu",
@@ -364,6 +366,9 @@ fn the_quick_report_writes_every_section() {
         ],
     );
     assert!(report.contains("Quick report"));
+    // Three model orders over the five shipped configurations, a row each and a header.
+    let orders = std::fs::read_to_string(out.join("model_orders.csv")).unwrap();
+    assert_eq!(orders.lines().count(), 16, "{orders}");
     // The quick identification is the model the data were made with: at the noise level.
     let fit: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(out.join("identify_C_neo_hookean_tet10.json")).unwrap(),

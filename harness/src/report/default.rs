@@ -24,7 +24,7 @@ pub const SECTIONS: [(&str, Section); 11] = [
     ("pelvis sweep", |r, _| {
         sweep::shipped(r, "pelvis_sweep", &["configuration", "anatomy.outlet"])
     }),
-    ("full against modal order", model_order::section),
+    ("model orders", model_order::section),
     ("cut-block sweep", |r, _| {
         sweep::shipped(r, "cutblock_sweep", &["cut_depth"])
     }),

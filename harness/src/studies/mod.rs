@@ -5,6 +5,7 @@
 //! - [`identify`]: E and ν of the cut block from force–displacement data and laser profiles;
 //! - [`profiles`]: scanner profiles against the model, in the lab frame and aligned;
 //! - [`speed_error`]: run time against error for the abdomen, and stability on hard cases;
+//! - [`model_orders`]: the shipped configurations in full, hyper-reduced and modal order;
 //! - [`cut_speed_error`]: run time against error for the cut block's models;
 //! - [`blade_path`]: the cut block's outputs as the blade crosses it, on two meshes;
 //! - [`verification`]: the FE core and both scenes against analytical and seed results;
@@ -19,6 +20,7 @@ pub mod fields;
 pub mod findings;
 pub mod identify;
 pub mod measurements;
+pub mod model_orders;
 pub mod peer;
 pub mod physiology;
 pub mod profiles;
