@@ -363,21 +363,18 @@ fn residual(g: MatRef<'_, f64>, w: &[f64], b: &[f64]) -> Vec<f64> {
 /// optimum (no column with a positive gradient left); the caller checks the residual.
 pub fn nnls(g: MatRef<'_, f64>, b: &[f64], tolerance: f64) -> Vec<f64> {
     let n = g.ncols();
-    let target = tolerance * norm_of(b);
+    let gram = Gram::new(g, b);
+    let target = tolerance * tolerance * gram.btb;
     let mut w = vec![0.0; n];
     let mut qr = PassiveQr::new(b);
     // Columns that cannot enter the passive set as it is (dependent on it, or entering at
     // zero weight); free again once another column leaves it.
     let mut barred = vec![false; n];
-    let mut r = b.to_vec();
     let mut gradient = vec![0.0; n];
     for _ in 0..ENTRIES_PER_COLUMN * n {
-        if norm_of(&r) <= target {
+        if gram.gradient(&qr.passive, &w, &mut gradient) <= target {
             break;
         }
-        let rm = MatRef::from_column_major_slice(&r, r.len(), 1);
-        let out = faer::MatMut::from_column_major_slice_mut(&mut gradient, n, 1);
-        matmul(out, Accum::Replace, g.transpose(), rm, 1.0, Par::Seq);
         let entering = (0..n)
             .filter(|&j| !barred[j] && w[j] == 0.0 && !qr.passive.contains(&j))
             .max_by(|&a, &b| gradient[a].total_cmp(&gradient[b]));
@@ -428,9 +425,55 @@ pub fn nnls(g: MatRef<'_, f64>, b: &[f64], tolerance: f64) -> Vec<f64> {
                 barred[j] = true; // it left at once: it cannot help this passive set
             }
         }
-        r = residual(g, &w, b);
     }
     w
+}
+
+/// The normal equations' data of min ‖G w − b‖: GᵀG, Gᵀb and bᵀb, so that an iteration of
+/// [`nnls`] costs O(n p) for p passive columns instead of two passes over G (which, at
+/// 3,360 × 1,129 on the abdomen, took 1.4 s of 3.8 s of training; measured 2026-11-26).
+struct Gram {
+    gtg: Mat<f64>,
+    gtb: Vec<f64>,
+    btb: f64,
+}
+
+impl Gram {
+    fn new(g: MatRef<'_, f64>, b: &[f64]) -> Self {
+        let n = g.ncols();
+        let mut gtg = Mat::zeros(n, n);
+        matmul(
+            &mut gtg,
+            Accum::Replace,
+            g.transpose(),
+            g,
+            1.0,
+            Par::rayon(0),
+        );
+        let mut gtb = vec![0.0; n];
+        let bm = MatRef::from_column_major_slice(b, b.len(), 1);
+        let out = faer::MatMut::from_column_major_slice_mut(&mut gtb, n, 1);
+        matmul(out, Accum::Replace, g.transpose(), bm, 1.0, Par::Seq);
+        Self {
+            gtg,
+            gtb,
+            btb: b.iter().map(|x| x * x).sum(),
+        }
+    }
+
+    /// Writes the gradient Gᵀ(b − G w) for weights `w`, non-zero on `passive` only, and
+    /// returns ‖G w − b‖² = bᵀb − wᵀGᵀb − wᵀ Gᵀ(b − G w).
+    fn gradient(&self, passive: &[usize], w: &[f64], out: &mut [f64]) -> f64 {
+        out.copy_from_slice(&self.gtb);
+        for &k in passive {
+            let col = self.gtg.col(k);
+            out.iter_mut()
+                .zip(col.iter())
+                .for_each(|(o, x)| *o -= w[k] * x);
+        }
+        let wg: f64 = passive.iter().map(|&k| w[k] * (self.gtb[k] + out[k])).sum();
+        self.btb - wg
+    }
 }
 
 /// Bounds the entries into the passive set (Lawson and Hanson's algorithm ends after

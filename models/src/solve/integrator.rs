@@ -163,7 +163,7 @@ impl IntegratorKind {
     }
 
     /// A new, unprepared integrator of this kind.
-    pub fn create(self) -> Box<dyn Integrator + Send> {
+    pub fn create(self) -> Box<dyn Integrator + Send + Sync> {
         match self {
             Self::Houbolt => Box::new(super::Houbolt::default()),
             Self::Newmark => Box::new(super::Newmark::default()),

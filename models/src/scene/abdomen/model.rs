@@ -37,7 +37,7 @@ pub struct Model {
     /// The full system on the free dofs.
     pub structure: Structure,
     /// Steps the full system, or the reduced one when `modal` is present.
-    pub integrator: Box<dyn Integrator + Send>,
+    pub integrator: Box<dyn Integrator + Send + Sync>,
     /// Load vector (free dofs) of a unit pressing force ([`press_pattern`]).
     pub unit_load: Vec<f64>,
     /// The pressing force per unit active tension of the diaphragm at rest, Θ₀ (N/mm per
@@ -665,15 +665,21 @@ impl Model {
 
     /// The full model's states (all dofs) after each step of one press
     /// F(t) = `amplitude` (1 − cos 2π `frequency` t)/2 from rest, stepped at `dt` by an
-    /// integrator of the model's kind, with F at each (finite-strain training).
+    /// integrator of the model's kind, with F at each (finite-strain training). The press
+    /// runs on a [`detached`](Self::detached) structure: presses may run side by side.
     pub fn press_run(
         &self,
         amplitude: f64,
         frequency: f64,
         dt: f64,
     ) -> Result<(Vec<Vec<f64>>, Vec<f64>), SceneError> {
-        let (free, presses) =
-            self.press_states(&self.structure, &self.unit_load, amplitude, frequency, dt)?;
+        let own = self.detached()?;
+        let (free, presses) = self.press_states(
+            &own.structure,
+            &own.tension,
+            &self.unit_load,
+            [amplitude, frequency, dt],
+        )?;
         let bc = self.structure.dirichlet();
         let states = free
             .iter()
@@ -686,23 +692,44 @@ impl Model {
         Ok((states, presses))
     }
 
+    /// The full finite-strain structure with a diaphragm tension of its own.
+    pub(super) fn detached(&self) -> Result<Detached, SceneError> {
+        let tension = Arc::new(SharedTension::default());
+        let body = self.body_reading(&tension)?;
+        let structure = self
+            .structure
+            .clone()
+            .with_internal_forces(quadratic_plane::internal_forces(body));
+        Ok(Detached { structure, tension })
+    }
+
+    /// The finite-strain body for the current properties, its diaphragm's active tension
+    /// read from `tension`.
+    pub(super) fn body_reading(
+        &self,
+        tension: &Arc<SharedTension>,
+    ) -> Result<Arc<BodyForces>, SceneError> {
+        self.disc
+            .body_forces(&self.props, DIAPHRAGM, tension)
+            .ok_or_else(|| SceneError::Config("a press run needs finite kinematics".into()))
+    }
+
     /// The states (its own unknowns) of structure `s` — the full one or a reduced one, with
-    /// the unit load `unit` on its unknowns — after each step of one press as
-    /// [`press_run`](Self::press_run)'s, the diaphragm contracting, with F at each.
+    /// the unit load `unit` on its unknowns, its forces reading the diaphragm's tension
+    /// from `tension` — after each step of one press of `amplitude` (N/mm) at `frequency`
+    /// (Hz) stepped at `dt` (s) as [`press_run`](Self::press_run)'s, with F at each.
     pub(super) fn press_states(
         &self,
         s: &Structure,
+        tension: &SharedTension,
         unit: &[f64],
-        amplitude: f64,
-        frequency: f64,
-        dt: f64,
+        [amplitude, frequency, dt]: [f64; 3],
     ) -> Result<(Vec<Vec<f64>>, Vec<f64>), SceneError> {
         let force =
             |t: f64| amplitude * 0.5 * (1.0 - (2.0 * std::f64::consts::PI * frequency * t).cos());
         let mut integrator = self.integrator.kind().create();
         integrator.prepare(s, dt)?;
-        let contracting = Some((&*self.tension, self.theta));
-        let mut load = pressing(force, unit, contracting);
+        let mut load = pressing(force, unit, Some((tension, self.theta)));
         let rest = vec![0.0; s.n()];
         integrator.start(s, 0.0, &rest, &rest, &mut load)?;
         let steps = (1.0 / (frequency * dt)).ceil() as usize;
@@ -721,6 +748,12 @@ impl Model {
     pub fn set_press(&self, force: f64) {
         self.tension.set(force.max(0.0) / self.theta);
     }
+}
+
+/// The full finite-strain structure with a diaphragm tension of its own ([`Model::detached`]).
+pub(super) struct Detached {
+    pub structure: Structure,
+    pub tension: Arc<SharedTension>,
 }
 
 /// The body at finite strain with the diaphragm's active tension going from `from` to `to`
@@ -759,7 +792,7 @@ const HALVINGS: u32 = 4;
 /// at the end of a press of a free, soft abdominal wall, 10 ms steps fail and 5 ms ones do
 /// not.
 fn step_halving(
-    integrator: &mut (dyn Integrator + Send),
+    integrator: &mut (dyn Integrator + Send + Sync),
     structure: &Structure,
     load: &mut dyn FnMut(f64, &mut [f64]),
     dt: f64,

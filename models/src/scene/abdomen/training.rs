@@ -15,6 +15,8 @@
 use std::sync::Arc;
 use std::time::Instant;
 
+use rayon::prelude::*;
+
 use super::model::Model;
 use crate::assembly::quadratic_plane::BodyForces;
 use crate::scene::SceneError;
@@ -124,16 +126,24 @@ pub fn train(
 }
 
 /// The training states (all dofs) of `model` over `range` with the press at each: the
-/// static ramp, then the dynamic press stepped at `dt`.
+/// static ramp, then the dynamic presses stepped at `dt` — the four runs side by side on
+/// rayon's threads (each deterministic, so the states are the same on any number).
 fn states(model: &Model, range: Range, dt: f64) -> Result<(Vec<Vec<f64>>, Vec<f64>), SceneError> {
     let levels: Vec<f64> = (1..=STATIC_STATES)
         .map(|i| range.press * (i as f64 / STATIC_STATES as f64).powi(2))
         .collect();
-    let mut states = model.static_ramp(&levels)?;
-    let mut presses = levels;
-    for share in DYNAMIC_SHARES {
-        let (dynamic, at) = model.press_run(share * range.press, range.frequency, dt)?;
-        states.extend(dynamic);
+    let (ramp, dynamic) = rayon::join(
+        || model.static_ramp(&levels),
+        || {
+            DYNAMIC_SHARES
+                .par_iter()
+                .map(|share| model.press_run(share * range.press, range.frequency, dt))
+                .collect::<Result<Vec<_>, _>>()
+        },
+    );
+    let (mut states, mut presses) = (ramp?, levels);
+    for (run, at) in dynamic? {
+        states.extend(run);
         presses.extend(at);
     }
     Ok((states, presses))
@@ -201,18 +211,19 @@ mod tests {
             .collect();
         let basis = pod::basis(full, &unit_vectors, 0.0, n).unwrap();
         assert_eq!(basis.dim(), n);
-        let body = model.body.clone().expect("finite strain");
+        let own = model.detached().unwrap();
+        let body = model.body_reading(&own.tension).unwrap();
         let forces = Arc::new(HyperReduced::galerkin(body, &basis, full));
         let reduced = structure(full, &basis, &forces).unwrap();
         let mut unit = vec![0.0; n];
         basis.project(model.unit_load(), &mut unit);
         let press = |s: &Structure, unit: &[f64]| {
             model
-                .press_states(s, unit, 0.8, 5.0, 0.01)
+                .press_states(s, &own.tension, unit, [0.8, 5.0, 0.01])
                 .unwrap_or_else(|e| panic!("{e}"))
                 .0
         };
-        let expected = press(full, model.unit_load());
+        let expected = press(&own.structure, model.unit_load());
         let got = press(&reduced, &unit);
         assert_eq!(got.len(), 20);
         let peak = expected
