@@ -16,6 +16,7 @@
 use std::sync::{Arc, Mutex};
 
 use faer::linalg::matmul::matmul;
+use faer::linalg::matmul::triangular::{self, BlockStructure};
 use faer::sparse::SymbolicSparseColMat;
 use faer::{Accum, Mat, MatRef, Par};
 use rayon::prelude::*;
@@ -273,17 +274,21 @@ impl HyperReduced {
         let out = faer::MatMut::from_column_major_slice_mut(f, r, 1);
         matmul(out, Accum::Replace, self.phi.transpose(), fm, 1.0, Par::Seq);
         if let Some(k) = k {
-            matmul(
+            // Φ_Sᵀ (K Φ)_S is symmetric: its lower triangle, mirrored.
+            triangular::matmul(
                 &mut w.kr,
+                BlockStructure::TriangularLower,
                 Accum::Replace,
                 self.phi.transpose(),
+                BlockStructure::Rectangular,
                 &w.kphi,
+                BlockStructure::Rectangular,
                 1.0,
                 Par::Seq,
             );
             for j in 0..r {
                 for i in 0..r {
-                    k[i + r * j] = 0.5 * (w.kr[(i, j)] + w.kr[(j, i)]);
+                    k[i + r * j] = w.kr[(i.max(j), i.min(j))];
                 }
             }
         }

@@ -65,6 +65,8 @@ pub struct Structure {
     product: SymmetricProduct,
     /// The internal forces of a finite-strain structure.
     internal: Option<Arc<InternalForces>>,
+    /// Newton's iterations stop at a residual of this share of its scale.
+    newton_tolerance: f64,
 }
 
 impl std::fmt::Debug for Structure {
@@ -102,6 +104,7 @@ impl Structure {
         let mut s = Self {
             product: SymmetricProduct::new(bc.symbolic().as_ref())?,
             internal: None,
+            newton_tolerance: NEWTON_TOLERANCE,
             k: vec![0.0; nnz],
             m: vec![0.0; nnz],
             c: vec![0.0; nnz],
@@ -186,6 +189,14 @@ impl Structure {
     /// tangent at u = 0, for the first factorization of a step's Newton iterations).
     pub fn with_internal_forces(mut self, forces: Arc<InternalForces>) -> Self {
         self.set_internal_forces(forces);
+        self
+    }
+
+    /// Newton's iterations in a step stop at a residual of `tolerance` times its scale
+    /// (the default [`NEWTON_TOLERANCE`] suits a full model; a reduced one, whose own error
+    /// is far larger, may stop sooner).
+    pub fn with_newton_tolerance(mut self, tolerance: f64) -> Self {
+        self.newton_tolerance = tolerance;
         self
     }
 
@@ -398,7 +409,7 @@ const MAX_NEWTON_ITERATIONS: usize = 100;
 /// norm of the terms that balance: the right-hand side, the internal and the inertia and
 /// damping forces). The assembled internal forces cancel element forces many times larger,
 /// so round-off leaves ‖R‖ near 10⁻⁹ of that scale (measured on a tri6 cantilever).
-const NEWTON_TOLERANCE: f64 = 1e-8;
+pub const NEWTON_TOLERANCE: f64 = 1e-8;
 /// A step has also converged when Newton's correction is below this fraction of the
 /// displacement (‖Δu‖∞ ≤ 10⁻¹⁰ max(‖u‖∞, [`DISPLACEMENT_FLOOR`])).
 const ROUND_OFF_CORRECTION: f64 = 1e-10;
@@ -599,7 +610,7 @@ impl Effective {
         let (mut r, mut scale) = self.newton.residual(s, forces, coefficients, x)?;
         let mut previous = f64::INFINITY;
         for iteration in 1..=MAX_NEWTON_ITERATIONS {
-            if r <= NEWTON_TOLERANCE * scale || r == 0.0 {
+            if r <= s.newton_tolerance * scale || r == 0.0 {
                 self.newton.iterations = iteration - 1;
                 return Ok(());
             }

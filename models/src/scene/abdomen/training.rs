@@ -48,6 +48,12 @@ pub const POD_TOLERANCE: f64 = 3e-4;
 /// elements and gave the same output errors to 0.1 % of their peaks).
 pub const ECSW_TOLERANCE: f64 = 5e-2;
 
+/// The reduced model's Newton iterations stop at a residual of this share of its scale:
+/// a hundred times the full model's tolerance, still a thousand times below the reduction's
+/// own error (10⁻³ of the peaks and more). Measured (2026-11-26, one run each, the default
+/// press): 3.9 instead of 5.6 iterations per step, the step 14 % shorter.
+pub const NEWTON_TOLERANCE: f64 = 1e-6;
+
 /// What the reduced model is trained for: presses from 0 to `press` (N/mm) of frequencies
 /// up to `frequency` (Hz).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -168,7 +174,9 @@ pub fn structure(
     let forces = forces
         .clone()
         .internal_forces(reduced.dirichlet().symbolic());
-    Ok(reduced.with_internal_forces(forces))
+    Ok(reduced
+        .with_internal_forces(forces)
+        .with_newton_tolerance(NEWTON_TOLERANCE))
 }
 
 #[cfg(test)]
@@ -214,7 +222,9 @@ mod tests {
         let own = model.detached().unwrap();
         let body = model.body_reading(&own.tension).unwrap();
         let forces = Arc::new(HyperReduced::galerkin(body, &basis, full));
-        let reduced = structure(full, &basis, &forces).unwrap();
+        let reduced = structure(full, &basis, &forces)
+            .unwrap()
+            .with_newton_tolerance(crate::solve::structure::NEWTON_TOLERANCE);
         let mut unit = vec![0.0; n];
         basis.project(model.unit_load(), &mut unit);
         let press = |s: &Structure, unit: &[f64]| {
