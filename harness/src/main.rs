@@ -38,7 +38,8 @@ enum Command {
     /// speed versus error, the shipped sweeps (pelvis, cut block), fields
     Report {
         /// The converged studies: references, full speed–error fronts, every
-        /// identification, full against modal order (about 20 minutes on 2 cores)
+        /// identification, the pelvis sweep in four model forms (the abdomen's speed–error
+        /// study alone took 29 minutes on 2 cores)
         #[arg(long)]
         full: bool,
         #[arg(long, default_value = "report/default")]
@@ -115,8 +116,8 @@ enum Command {
     },
     /// Model orders compared: the shipped configurations in full and hyper-reduced order at
     /// finite strain and modal order at small strain (times, errors against full finite
-    /// strain, rankings, error indicators); the shipped pelvis sweep in full and modal order
-    /// at small strain (wall times and peak differences)
+    /// strain, rankings, error indicators); the shipped pelvis sweep in those and in full
+    /// order at small strain (wall times, errors, rankings)
     ModelOrder {
         #[arg(long, default_value = "report/model_order")]
         out: PathBuf,

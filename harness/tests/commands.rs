@@ -340,7 +340,7 @@ fn the_quick_report_writes_every_section() {
         "## Speed versus error, cut block",
         "## Sweep `pelvis_sweep` (62 cases)",
         "## The shipped configurations in three model orders",
-        "## Sweep `pelvis_sweep` in full and modal order",
+        "## Sweep `pelvis_sweep` in four model forms",
         "## Sweep `cutblock_sweep` (15 cases)",
         "## Fields",
         "## Wall time of each section",

@@ -36,7 +36,7 @@ const QUICK: &str = "Quick report: every capability once, at settings chosen for
 section says what it ran and how accurate that is. `harness report --full` runs the converged \
 studies instead: both measurement sets with two models each, the abdomen's speed–error front \
 against a reference on 48,000 graded triangles, the cut block's against a Richardson reference \
-on three graded neo-Hookean tet10 meshes, and the shipped pelvis sweep in full against modal order.";
+on three graded neo-Hookean tet10 meshes, and the shipped pelvis sweep in four model forms (full and hyper-reduced finite strain, full and modal small strain).";
 
 /// Writes the default report at `depth` into `out` and returns the path of its `report.md`.
 pub fn run(out: &Path, depth: Depth) -> Result<PathBuf> {

@@ -39,6 +39,10 @@ impl Report {
 
     pub fn heading(&mut self, text: &str) {
         println!("\n## {text}");
+        if !self.markdown.is_empty() && !self.markdown.ends_with("\n\n") {
+            // After a list of files: a blank line ends it.
+            self.markdown.push('\n');
+        }
         self.markdown += &format!("## {text}\n\n");
     }
 

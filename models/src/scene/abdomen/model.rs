@@ -48,7 +48,7 @@ pub struct Model {
     pub(super) body: Option<Arc<BodyForces>>,
     /// What a hyper-reduced model is trained for, and the step of its dynamic training.
     training: (Range, f64),
-    /// Whether the abdominal wall is held (the hyper-reduced model needs it).
+    /// Whether the abdominal wall is held (the hyper-reduced model trains otherwise then).
     fixed_wall: bool,
     fixed: Vec<usize>,
     /// The displacement of all dofs after the last step, valid when `expanded`.
@@ -329,16 +329,6 @@ impl Model {
                     .into(),
             ));
         };
-        if !self.fixed_wall {
-            return Err(SceneError::Config(
-                "model_order = \"reduced\" needs abdominal_wall = \"fixed\" (the default): \
-                 the free wall, a membrane slack at rest, has no static equilibria to train \
-                 on, and trained on its dynamics alone the reduced model's floor stress was \
-                 up to 35 % off full order in the pelvis sweep; run the free wall in full \
-                 order"
-                    .into(),
-            ));
-        }
         let (range, dt) = self.training;
         let (basis, hyper) = training::train(self, body, range, dt, count)?;
         Ok(Modal {
@@ -663,22 +653,21 @@ impl Model {
         Ok(states)
     }
 
-    /// The full model's states (all dofs) after each step of one press
-    /// F(t) = `amplitude` (1 − cos 2π `frequency` t)/2 from rest, stepped at `dt` by an
-    /// integrator of the model's kind, with F at each (finite-strain training). The press
-    /// runs on a [`detached`](Self::detached) structure: presses may run side by side.
+    /// The full model's states (all dofs) after each step of a press
+    /// F(t) = `amplitude` (1 − cos 2π `frequency` t)/2 from rest over the share `span` of
+    /// its period (1: the whole press; ½: up to its peak), stepped at `dt` by an integrator
+    /// of the model's kind, with F at each (finite-strain training). The press runs on a
+    /// [`detached`](Self::detached) structure: presses may run side by side.
     pub fn press_run(
         &self,
-        amplitude: f64,
-        frequency: f64,
-        dt: f64,
+        [amplitude, frequency, dt, span]: [f64; 4],
     ) -> Result<(Vec<Vec<f64>>, Vec<f64>), SceneError> {
         let own = self.detached()?;
         let (free, presses) = self.press_states(
             &own.structure,
             &own.tension,
             &self.unit_load,
-            [amplitude, frequency, dt],
+            [amplitude, frequency, dt, span],
         )?;
         let bc = self.structure.dirichlet();
         let states = free
@@ -690,6 +679,11 @@ impl Model {
             })
             .collect();
         Ok((states, presses))
+    }
+
+    /// Whether the abdominal wall is held.
+    pub(super) fn fixed_wall(&self) -> bool {
+        self.fixed_wall
     }
 
     /// The full finite-strain structure with a diaphragm tension of its own.
@@ -716,14 +710,15 @@ impl Model {
 
     /// The states (its own unknowns) of structure `s` — the full one or a reduced one, with
     /// the unit load `unit` on its unknowns, its forces reading the diaphragm's tension
-    /// from `tension` — after each step of one press of `amplitude` (N/mm) at `frequency`
-    /// (Hz) stepped at `dt` (s) as [`press_run`](Self::press_run)'s, with F at each.
+    /// from `tension` — after each step of a press of `amplitude` (N/mm) at `frequency`
+    /// (Hz) over the share `span` of its period, stepped at `dt` (s), as
+    /// [`press_run`](Self::press_run)'s, with F at each.
     pub(super) fn press_states(
         &self,
         s: &Structure,
         tension: &SharedTension,
         unit: &[f64],
-        [amplitude, frequency, dt]: [f64; 3],
+        [amplitude, frequency, dt, span]: [f64; 4],
     ) -> Result<(Vec<Vec<f64>>, Vec<f64>), SceneError> {
         let force =
             |t: f64| amplitude * 0.5 * (1.0 - (2.0 * std::f64::consts::PI * frequency * t).cos());
@@ -732,7 +727,7 @@ impl Model {
         let mut load = pressing(force, unit, Some((tension, self.theta)));
         let rest = vec![0.0; s.n()];
         integrator.start(s, 0.0, &rest, &rest, &mut load)?;
-        let steps = (1.0 / (frequency * dt)).ceil() as usize;
+        let steps = (span / (frequency * dt)).ceil() as usize;
         let (mut states, mut presses) = (Vec::with_capacity(steps), Vec::with_capacity(steps));
         for _ in 0..steps {
             step_halving(integrator.as_mut(), s, &mut load, dt, HALVINGS)?;
