@@ -39,7 +39,7 @@ fn initialized(model: &str) -> Abdomen {
 fn outputs(s: &Abdomen, cavity: bool) -> Vec<u32> {
     s.variables()
         .iter()
-        .filter(|v| v.causality == Causality::Output)
+        .filter(|v| v.causality == Causality::Output && v.name != "error_indicator")
         .filter(|v| cavity || !v.name.starts_with("cavity_"))
         .map(|v| v.vr)
         .collect()
@@ -102,6 +102,28 @@ fn step_with_outputs<const CAVITY: bool>(bencher: Bencher, model: &str) {
             s.get_real(vr, &mut x).unwrap();
         }
     });
+}
+
+/// One step and a read of the error indicator (its stiffness factorized by a read before
+/// the timing): what the indicator adds to a step when an importer reads it at every one.
+#[divan::bench(args = MODELS, sample_count = 10, sample_size = 1)]
+fn step_with_indicator(bencher: Bencher, model: &str) {
+    let s = initialized(model);
+    let vr = s.lookup("error_indicator").unwrap();
+    let (state, t) = pressed(s, 0.5);
+    let mut x = [0.0];
+    bencher
+        .with_inputs(|| {
+            let mut s = Abdomen::new();
+            s.restore(&state).unwrap();
+            s.get_real(vr, &mut [0.0]).unwrap();
+            s
+        })
+        .bench_local_values(|mut s| {
+            s.do_step(t, DT).unwrap();
+            s.get_real(vr, &mut x).unwrap();
+            s
+        });
 }
 
 /// One press (2 s in 200 steps of 10 ms, the peak floor stress read at each) on a model set
