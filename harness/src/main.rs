@@ -39,7 +39,7 @@ enum Command {
     Report {
         /// The converged studies: references, full speed–error fronts, every
         /// identification, the pelvis sweep in four model forms (the abdomen's speed–error
-        /// study alone took 29 minutes on 2 cores)
+        /// study alone took 29 minutes on 2 cores in a run of 2026-11-26)
         #[arg(long)]
         full: bool,
         #[arg(long, default_value = "report/default")]

@@ -47,6 +47,23 @@ pub fn claim(what: &'static str, bytes: usize) -> Result<(), ModelError> {
     })
 }
 
+/// An equal share, for each of `parts` parallel parts of a build, of what the calling
+/// thread's budget has left (None without a budget). The budget is per thread: a part run on
+/// another thread claims against its share with [`part`], or is not counted at all.
+pub fn shares(parts: usize) -> Option<usize> {
+    BUDGET
+        .with(Cell::get)
+        .map(|(limit, claimed)| limit.saturating_sub(claimed) / parts.max(1))
+}
+
+/// Runs `task` (a parallel part of a build, on any thread) within `share` ([`shares`]).
+pub fn part<R>(share: Option<usize>, task: impl FnOnce() -> R) -> R {
+    match share {
+        Some(bytes) => within(bytes, task),
+        None => task(),
+    }
+}
+
 /// Bytes of `n` values of type `T`, saturating.
 pub fn bytes_of<T>(n: usize) -> usize {
     n.saturating_mul(std::mem::size_of::<T>())
@@ -77,5 +94,26 @@ mod tests {
             claim("the rest", 400).unwrap();
         });
         assert!(claim("after", usize::MAX).is_ok());
+    }
+
+    #[test]
+    fn parallel_parts_claim_against_equal_shares_of_what_is_left() {
+        use rayon::prelude::*;
+        let results: Vec<(bool, bool)> = within(1000, || {
+            claim("a mesh", 200).unwrap();
+            // 800 left: 200 for each of four parts, wherever rayon runs them.
+            let share = shares(4);
+            (0..4)
+                .into_par_iter()
+                .map(|_| {
+                    part(share, || {
+                        (claim("a part", 200).is_ok(), claim("more", 1).is_ok())
+                    })
+                })
+                .collect()
+        });
+        assert_eq!(results, vec![(true, false); 4]);
+        assert_eq!(shares(4), None, "no budget, no limit");
+        assert!(part(None, || claim("anything", usize::MAX).is_ok()));
     }
 }

@@ -287,50 +287,101 @@ fn a_restored_state_continues_bit_for_bit() {
     assert_eq!(steps(&mut restored, 10), expected);
 }
 
-/// The largest error indicator over one press of 1.2 N/mm at 5 Hz from rest, read every
-/// fifth 10 ms step (and in Initialization Mode, at rest: 0).
-fn largest_indicator(s: &mut Abdomen) -> f64 {
-    s.set("press_amplitude", 1.2).unwrap();
-    s.set("press_frequency", 5.0).unwrap();
+/// A press no training run had: 0.9 N/mm at 3.7 Hz (the training presses are at 5 Hz),
+/// one whole press in 28 steps of 10 ms.
+const PRESS: (f64, f64) = (0.9, 3.7);
+const STEPS: usize = 28;
+
+/// The floor's maximum stress and the error indicator after each step of [`PRESS`] from
+/// rest (the indicator read in Initialization Mode too, at rest: 0).
+fn histories(s: &mut Abdomen) -> Vec<[f64; 2]> {
+    s.set("press_amplitude", PRESS.0).unwrap();
+    s.set("press_frequency", PRESS.1).unwrap();
     s.restart(0.0).unwrap();
     assert_eq!(s.get("error_indicator").unwrap(), 0.0);
-    let mut largest = 0.0_f64;
-    for i in 0..20 {
-        s.do_step(i as f64 * 0.01, 0.01).unwrap();
-        if i % 5 == 4 {
-            largest = largest.max(s.get("error_indicator").unwrap());
-        }
-    }
-    largest
+    (0..STEPS)
+        .map(|i| {
+            s.do_step(i as f64 * 0.01, 0.01).unwrap();
+            ["floor_stress_max", "error_indicator"].map(|name| s.get(name).unwrap())
+        })
+        .collect()
 }
 
-/// The error indicator (the full residual of the expanded state, `error_indicator`): at
-/// Newton's tolerance in full order (it stops at 1e-8 of the residual's scale; measured
-/// 2026-11-26: 6.3e-9), small in the training range (measured 0.028 with a 1.5 % error of
-/// the floor's peak stress over the whole history) and an order larger when the press is
-/// three times the training press (measured 0.70, with 54 %), so that it tells a user the
-/// reduced model has left its range.
+/// Whether step i's end lies where the press is above half its peak.
+fn pressing_hard(i: usize) -> bool {
+    let t = (i + 1) as f64 * 0.01;
+    (1.0 - (2.0 * std::f64::consts::PI * PRESS.1 * t).cos()) / 2.0 >= 0.5
+}
+
+/// The largest indicator and the largest floor-stress error (relative to the full order's
+/// peak) over the steps `which` selects.
+fn worst(run: &[[f64; 2]], full: &[[f64; 2]], which: impl Fn(usize) -> bool) -> [f64; 2] {
+    let peak = full.iter().fold(0.0_f64, |m, x| m.max(x[0].abs()));
+    (0..STEPS)
+        .filter(|&i| which(i))
+        .fold([0.0; 2], |[eta, error], i| {
+            [
+                eta.max(run[i][1]),
+                error.max((run[i][0] - full[i][0]).abs() / peak),
+            ]
+        })
+}
+
+/// The error indicator (the full residual of the expanded state, `error_indicator`) over a
+/// press no training run had. At Newton's tolerance in full order (it stops at 1e-8 of
+/// the residual's scale) and at round-off at linear kinematics. For the reduced model, while
+/// the press is above half its peak, small in its range (measured 2026-11-26, one run:
+/// 0.027, the floor stress within 1.25 % of full order's peak) and several times larger with
+/// a third of the training press (0.17, 4.0 %); and wherever the reduced floor stress is
+/// more than 10 % of the peak off — at the end of the press, where the reduced floor goes
+/// taut again while the full one rests slack (up to 25 %) — above 0.1 (measured 0.44–0.49).
+/// An indicator, not a bound: beyond the range a 5.3 % error at 0.21 s came with η = 0.040.
+/// Reading it leaves the run as it was.
 #[test]
-fn the_error_indicator_sees_the_reduced_model_leave_its_range() {
-    let full = largest_indicator(&mut built("full", ""));
-    assert!(full <= 1e-7, "full order: {full:e}");
-    let inside = largest_indicator(&mut built("reduced", ""));
-    assert!(inside <= 0.05, "in the range: {inside}");
+fn the_error_indicator_flags_where_the_reduced_model_errs() {
+    let full = histories(&mut built("full", ""));
+    let newton = full.iter().fold(0.0_f64, |m, x| m.max(x[1]));
+    assert!(newton <= 1e-7, "full order: {newton:e}");
+    let mut reduced = built("reduced", "");
+    let inside = histories(&mut reduced);
     let mut s = Abdomen::new();
     s.set_str("model_order", "reduced").unwrap();
-    s.set("training_press", 0.4).unwrap();
+    s.set("training_press", PRESS.0 / 3.0).unwrap();
     s.initialize(0.0).unwrap();
-    let outside = largest_indicator(&mut s);
-    assert!(
-        outside >= 10.0 * inside,
-        "{outside} vs {inside} in the range"
+    let outside = histories(&mut s);
+    let [eta_in, error_in] = worst(&inside, &full, pressing_hard);
+    let [eta_out, error_out] = worst(&outside, &full, pressing_hard);
+    println!(
+        "pressing hard: in the range η {eta_in:.3}, error {:.2} %; beyond it η {eta_out:.3}, \
+         error {:.2} %",
+        100.0 * error_in,
+        100.0 * error_out
     );
+    assert!(eta_in <= 0.03 && error_in <= 0.02, "{eta_in} {error_in}");
+    assert!(eta_out >= 4.0 * eta_in && error_out >= 2.0 * error_in);
+    let peak = full.iter().fold(0.0_f64, |m, x| m.max(x[0].abs()));
+    for run in [&inside, &outside] {
+        for (i, (r, f)) in run.iter().zip(&full).enumerate() {
+            let error = (r[0] - f[0]).abs() / peak;
+            assert!(
+                error <= 0.1 || r[1] >= 0.1,
+                "step {i}: {error} unflagged ({})",
+                r[1]
+            );
+        }
+    }
     let mut linear = Abdomen::new();
     linear.set_str("kinematics", "linear").unwrap();
     linear.initialize(0.0).unwrap();
-    let exact = largest_indicator(&mut linear);
-    assert!(
-        exact <= 1e-11,
-        "full order, linear (one direct solve a step): {exact:e}"
-    );
+    let exact = histories(&mut linear)
+        .iter()
+        .fold(0.0_f64, |m, x| m.max(x[1]));
+    assert!(exact <= 1e-11, "full order, linear: {exact:e}");
+    // The same run without reading the indicator.
+    reduced.restart(0.0).unwrap();
+    for (i, expected) in inside.iter().enumerate() {
+        reduced.do_step(i as f64 * 0.01, 0.01).unwrap();
+        let x = reduced.get("floor_stress_max").unwrap();
+        assert_eq!(x.to_bits(), expected[0].to_bits(), "step {i}");
+    }
 }

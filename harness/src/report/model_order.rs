@@ -253,7 +253,7 @@ fn shipped_sweep(report: &mut Report, depth: Depth) -> Result<()> {
          modal models are trained or built for every case. Errors are of each case's peak \
          against full-order finite strain (the worst over the cases), with the pairs of \
          cases ranked the other way round (of {} pairs).",
-        e.cases.len() * (e.cases.len() - 1) / 2
+        e.cases.len() * e.cases.len().saturating_sub(1) / 2
     ));
     let rows: Vec<Vec<String>> = runs
         .iter()

@@ -2,7 +2,7 @@
 //! strain — the right physics at the scene's load, the reference — the hyper-reduced
 //! finite-strain model (`model_order = "reduced"`) and the modal model of linear kinematics,
 //! each over one press of the default pressing force from rest on the default model (the
-//! braced wall, which the reduced model needs). For each case: the set-up time (a reduced
+//! braced wall). For each case: the set-up time (a reduced
 //! model's training included), the stepping time, the peaks of the floor stress mean and
 //! max, and the largest error indicator (read every [`INDICATOR_EVERY`] steps, outside the
 //! timed steps).

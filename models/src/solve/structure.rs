@@ -311,14 +311,28 @@ impl Structure {
         v: &[f64],
         out: &mut [f64],
     ) -> Result<(), ModelError> {
+        let mut full = [vec![0.0; self.bc.n_dofs()], vec![0.0; self.bc.n_dofs()]];
+        self.unbalanced_with(f, u, v, out, &mut full)
+    }
+
+    /// [`unbalanced`](Self::unbalanced) with `full`, two vectors of all dofs, as the work
+    /// space of the internal forces: allocates nothing.
+    fn unbalanced_with(
+        &self,
+        f: &[f64],
+        u: &[f64],
+        v: &[f64],
+        out: &mut [f64],
+        [u_full, f_full]: &mut [Vec<f64>; 2],
+    ) -> Result<(), ModelError> {
         let Some(forces) = &self.internal else {
             self.residual(f, u, v, out);
             return Ok(());
         };
-        let (mut u_full, mut f_full) = (vec![0.0; self.bc.n_dofs()], vec![0.0; self.bc.n_dofs()]);
-        self.bc.expand(u, &mut u_full);
-        forces(&u_full, &mut f_full, None)?;
-        self.bc.reduce(&f_full, out);
+        self.bc.expand(u, u_full);
+        f_full.fill(0.0);
+        forces(u_full, f_full, None)?;
+        self.bc.reduce(f_full, out);
         for (o, f) in out.iter_mut().zip(f) {
             *o = f - *o;
         }
@@ -326,6 +340,12 @@ impl Structure {
             self.product.mul_add(&self.c, v, -1.0, out);
         }
         Ok(())
+    }
+
+    /// The work space of [`equation_residual`](Self::equation_residual): two vectors of
+    /// all dofs.
+    pub fn residual_work(&self) -> [Vec<f64>; 2] {
+        [vec![0.0; self.bc.n_dofs()], vec![0.0; self.bc.n_dofs()]]
     }
 
     /// Strain energy ½uᵀKu + kinetic energy ½vᵀMv (consistent mass), with the linear K.
@@ -347,16 +367,15 @@ impl Structure {
 
     /// out = f − M a − C v − f_int(u): the residual of the equation of motion at the state
     /// (u, v = u̇, a = ü) under the load f ([`unbalanced`](Self::unbalanced) less the
-    /// inertia). Allocates at finite strain.
+    /// inertia), with `work` from [`residual_work`](Self::residual_work). Allocates nothing.
     pub fn equation_residual(
         &self,
         f: &[f64],
-        u: &[f64],
-        v: &[f64],
-        a: &[f64],
+        [u, v, a]: [&[f64]; 3],
         out: &mut [f64],
+        work: &mut [Vec<f64>; 2],
     ) -> Result<(), ModelError> {
-        self.unbalanced(f, u, v, out)?;
+        self.unbalanced_with(f, u, v, out, work)?;
         self.product.mul_add(&self.m, a, -1.0, out);
         Ok(())
     }

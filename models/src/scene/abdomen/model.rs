@@ -61,8 +61,9 @@ pub struct Model {
     pub outputs: OutputPlan,
     /// The reduced system of `model_order = "modal"`.
     pub modal: Option<Modal>,
-    /// The error indicator, its stiffness factorized on first request.
-    indicator: Option<Indicator>,
+    /// The error indicator, its stiffness factorized on first request, and the state and
+    /// load it reads (free dofs: u, v, a, f).
+    indicator: Option<(Indicator, [Vec<f64>; 4])>,
 }
 
 /// The reduced-order system: the basis, the projected matrices, the projected unit load
@@ -472,37 +473,42 @@ impl Model {
     /// The error indicator η of the state after the last step ([`Indicator`]): the full
     /// model's residual there under the pressing force `force(τ)` at integrator time τ — the
     /// modal coordinates expanded in a reduced order — relative to the displacement, in the
-    /// energy norm of the stiffness at rest. The first request factorizes that stiffness;
-    /// each costs one full-order evaluation of the internal forces and one solve.
+    /// energy norm of the stiffness at rest; infinite where the expanded state inverts an
+    /// element. The first request factorizes that stiffness; each costs one full-order
+    /// evaluation of the internal forces and one solve.
     pub fn indicator(&mut self, force: impl Fn(f64) -> f64) -> Result<f64, SceneError> {
-        let indicator = match &mut self.indicator {
+        let n = self.structure.n();
+        let (indicator, [u, v, a, f]) = match &mut self.indicator {
             Some(i) => i,
-            slot => slot.insert(Indicator::new(&self.structure)?),
+            slot => slot.insert((
+                Indicator::new(&self.structure)?,
+                std::array::from_fn(|_| vec![0.0; n]),
+            )),
         };
         let state = self.integrator.state();
-        let n = self.structure.n();
-        let expanded = |q: &[f64]| match &self.modal {
-            Some(r) => {
-                let mut x = vec![0.0; n];
-                r.basis.expand(q, &mut x);
-                x
+        for (full, q) in [
+            (&mut *u, &state.u),
+            (&mut *v, &state.v),
+            (&mut *a, &state.a),
+        ] {
+            match &self.modal {
+                Some(r) => r.basis.expand(q, full),
+                None => full.copy_from_slice(q),
             }
-            None => q.to_vec(),
-        };
-        let (u, v, a) = (expanded(&state.u), expanded(&state.v), expanded(&state.a));
+        }
         let contracting = self
             .disc
             .choice
             .finite
             .then_some((&*self.tension, self.theta));
-        let mut f = vec![0.0; n];
-        pressing(force, &self.unit_load, contracting)(state.t, &mut f);
-        let motion = Motion {
-            u: &u,
-            v: &v,
-            a: &a,
-        };
-        Ok(indicator.estimate(&self.structure, &f, motion)?)
+        pressing(force, &self.unit_load, contracting)(state.t, f);
+        let motion = Motion { u, v, a };
+        match indicator.estimate(&self.structure, f, motion) {
+            // The expanded state turns an element inside out: as far from the full model's
+            // states as can be.
+            Err(ModelError::Inverted { .. }) => Ok(f64::INFINITY),
+            other => Ok(other?),
+        }
     }
 
     /// The displacement of all dofs as of the last [`expand`](Self::expand).

@@ -16,13 +16,13 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use rayon::prelude::*;
-
 use super::model::Model;
 use crate::assembly::quadratic_plane::BodyForces;
+use crate::budget;
 use crate::scene::SceneError;
 use crate::solve::ecsw::{Fit, HyperReduced};
 use crate::solve::{pod, ModalBasis, Structure};
+use rayon::prelude::*;
 
 /// Static training states: presses of (i/N)² of the training press, i = 1 … N.
 pub const STATIC_STATES: usize = 10;
@@ -53,7 +53,7 @@ pub const ECSW_TOLERANCE: f64 = 5e-2;
 /// a hundred times the full model's tolerance, still a thousand times below the reduction's
 /// own error (10⁻³ of the peaks and more). Measured (2026-11-26, one run each, the default
 /// press): 3.9 instead of 5.6 iterations per step, the step 14 % shorter.
-pub const NEWTON_TOLERANCE: f64 = 1e-6;
+pub const REDUCED_NEWTON_TOLERANCE: f64 = 1e-6;
 
 /// What the reduced model is trained for: presses from 0 to `press` (N/mm) of frequencies
 /// up to `frequency` (Hz).
@@ -134,15 +134,20 @@ pub fn train(
 
 /// The training states (all dofs) of `model` over `range` with the press at each: the
 /// quasi-static ones ([`quasi_static`]), then the dynamic presses stepped at `dt` — the
-/// four runs side by side on rayon's threads (each deterministic, so the states are the
-/// same on any number).
+/// four runs side by side on rayon's threads, each within a quarter of the memory budget
+/// left ([`budget::part`]; each run is deterministic, so the states are the same on any
+/// number of threads) — and the states claimed against the budget.
 fn states(model: &Model, range: Range, dt: f64) -> Result<(Vec<Vec<f64>>, Vec<f64>), SceneError> {
+    let share = budget::shares(1 + DYNAMIC_SHARES.len());
     let (slow, dynamic) = rayon::join(
-        || quasi_static(model, range, dt),
+        || budget::part(share, || quasi_static(model, range, dt)),
         || {
             DYNAMIC_SHARES
                 .par_iter()
-                .map(|share| model.press_run([share * range.press, range.frequency, dt, 1.0]))
+                .map(|a| {
+                    let press = [a * range.press, range.frequency, dt, 1.0];
+                    budget::part(share, || model.press_run(press))
+                })
                 .collect::<Result<Vec<_>, _>>()
         },
     );
@@ -151,6 +156,11 @@ fn states(model: &Model, range: Range, dt: f64) -> Result<(Vec<Vec<f64>>, Vec<f6
         states.extend(run);
         presses.extend(at);
     }
+    let n = states.first().map_or(0, Vec::len);
+    budget::claim(
+        "the reduced model's training states",
+        budget::bytes_of::<f64>(n.saturating_mul(states.len())),
+    )?;
     Ok((states, presses))
 }
 
@@ -174,7 +184,9 @@ fn quasi_static(
     }
     let (states, presses) =
         model.press_run([range.press, range.frequency / SLOW_PRESS, dt, 0.5])?;
-    let kept = |i: &usize| (i + 1).is_multiple_of(SLOW_STRIDE);
+    // Every SLOW_STRIDE-th state, and the last (the peak) in any case.
+    let last = states.len().saturating_sub(1);
+    let kept = |i: &usize| (i + 1).is_multiple_of(SLOW_STRIDE) || *i == last;
     let states = states.into_iter().enumerate().filter(|(i, _)| kept(i));
     let presses = presses.into_iter().enumerate().filter(|(i, _)| kept(i));
     Ok((
@@ -211,7 +223,7 @@ pub fn structure(
         .internal_forces(reduced.dirichlet().symbolic());
     Ok(reduced
         .with_internal_forces(forces)
-        .with_newton_tolerance(NEWTON_TOLERANCE))
+        .with_newton_tolerance(REDUCED_NEWTON_TOLERANCE))
 }
 
 #[cfg(test)]
