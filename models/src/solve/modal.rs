@@ -51,8 +51,6 @@ pub enum Reduction {
     Eigenmodes,
     /// The lowest eigenmodes alone.
     Truncated,
-    /// Proper orthogonal decomposition of finite-strain training states ([`super::pod`]).
-    Pod,
 }
 
 /// An M-orthonormal, K-orthogonal reduction basis.
@@ -63,8 +61,6 @@ pub struct ModalBasis {
     /// Ritz values ω² = φᵀKφ of the columns (1/s²), ascending: for eigenmodes their
     /// eigenvalues.
     pub values: Vec<f64>,
-    /// What the basis was built from.
-    pub reduction: Reduction,
     /// Wall time of the construction (s).
     pub seconds: f64,
 }
@@ -93,32 +89,20 @@ impl ModalBasis {
                 }
                 modes
             }
-            Reduction::Pod => {
-                return Err(ModelError::LinearAlgebra(
-                    "a POD basis is built from training states (solve::pod::basis)".into(),
-                ))
-            }
         };
         let (vectors, values) = ritz_diagonalized(s.stiffness(), vectors);
         Ok(Self {
             vectors,
             values,
-            reduction,
             seconds: clock.elapsed().as_secs_f64(),
         })
     }
 
     /// A basis of given M-orthonormal, K-orthogonal columns with their Ritz values.
-    pub(super) fn from_parts(
-        vectors: Mat<f64>,
-        values: Vec<f64>,
-        reduction: Reduction,
-        seconds: f64,
-    ) -> Self {
+    pub(super) fn from_parts(vectors: Mat<f64>, values: Vec<f64>, seconds: f64) -> Self {
         Self {
             vectors,
             values,
-            reduction,
             seconds,
         }
     }

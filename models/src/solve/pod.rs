@@ -17,7 +17,7 @@ use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
 use nalgebra::{DMatrix, SymmetricEigen};
 
-use super::modal::{galerkin, ModalBasis, Reduction};
+use super::modal::{galerkin, ModalBasis};
 use super::structure::Structure;
 use crate::error::ModelError;
 
@@ -67,7 +67,6 @@ pub fn basis(
     Ok(ModalBasis::from_parts(
         vectors,
         values,
-        Reduction::Pod,
         clock.elapsed().as_secs_f64(),
     ))
 }

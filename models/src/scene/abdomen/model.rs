@@ -81,7 +81,8 @@ pub struct Modal {
     strains: Vec<f64>,
     /// The hyper-reduction of a finite-strain model.
     pub hyper: Option<Hyper>,
-    /// The `modes` parameter the basis was built with.
+    /// The order and the `modes` parameter the basis was built with.
+    order: Order,
     count: usize,
 }
 
@@ -182,14 +183,22 @@ fn modes(values: &Values) -> Result<usize, SceneError> {
     )
 }
 
-/// The reduction of a `model_order` value: `None` for `full`.
-pub fn order(value: &str) -> Result<Option<Reduction>, SceneError> {
+/// A reduced `model_order`: a modal basis of the linear model, or the hyper-reduced
+/// finite-strain model trained at initialization ([`training`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Order {
+    Modal(Reduction),
+    Hyper,
+}
+
+/// The reduced order of a `model_order` value: `None` for `full`.
+pub fn order(value: &str) -> Result<Option<Order>, SceneError> {
     match value {
         "full" => Ok(None),
-        "modal" => Ok(Some(Reduction::Ritz)),
-        "eigenmodes" => Ok(Some(Reduction::Eigenmodes)),
-        "eigenmodes_truncated" => Ok(Some(Reduction::Truncated)),
-        "reduced" => Ok(Some(Reduction::Pod)),
+        "modal" => Ok(Some(Order::Modal(Reduction::Ritz))),
+        "eigenmodes" => Ok(Some(Order::Modal(Reduction::Eigenmodes))),
+        "eigenmodes_truncated" => Ok(Some(Order::Modal(Reduction::Truncated))),
+        "reduced" => Ok(Some(Order::Hyper)),
         other => Err(SceneError::Config(format!(
             "model_order `{other}`: use `full`, `modal`, `eigenmodes`, `eigenmodes_truncated` \
              or `reduced`"
@@ -285,18 +294,19 @@ impl Model {
         };
         model.modal = match order(values.string(MODEL_ORDER)?)? {
             None => None,
-            Some(reduction) => Some(model.reduced(reduction, modes(values)?)?),
+            Some(reduced) => Some(model.reduced(reduced, modes(values)?)?),
         };
         Ok(model)
     }
 
     /// The reduced system with a basis of (at most) `count` vectors for the current
     /// matrices: for the pressing load's pattern at linear kinematics, by training at
-    /// finite strain ([`Reduction::Pod`]).
-    fn reduced(&self, reduction: Reduction, count: usize) -> Result<Modal, SceneError> {
-        if reduction == Reduction::Pod {
-            return self.hyper_reduced(count);
-        }
+    /// finite strain ([`Order::Hyper`]).
+    fn reduced(&self, order: Order, count: usize) -> Result<Modal, SceneError> {
+        let reduction = match order {
+            Order::Modal(reduction) => reduction,
+            Order::Hyper => return self.hyper_reduced(count),
+        };
         let basis = ModalBasis::new(&self.structure, reduction, count, &self.unit_load)?;
         let mut u = vec![0.0; self.u_full.len()];
         let strains = (0..basis.dim())
@@ -315,6 +325,7 @@ impl Model {
             structure: basis.reduce(&self.structure)?,
             unit_load: self.projected_load(&basis),
             basis,
+            order,
             count,
             hyper: None,
         })
@@ -338,6 +349,7 @@ impl Model {
             structure: training::structure(&self.structure, &basis, &hyper.forces)?,
             unit_load: self.projected_load(&basis),
             basis,
+            order: Order::Hyper,
             count,
             hyper: Some(hyper),
         })
@@ -576,7 +588,7 @@ impl Model {
             return Ok(());
         };
         let checkpoint = self.integrator.checkpoint();
-        let new = self.reduced(old.basis.reduction, old.count)?;
+        let new = self.reduced(old.order, old.count)?;
         let mass = self.structure.mass();
         let mut u = vec![0.0; self.structure.n()];
         let moved = checkpoint.map(&mut |q| {
