@@ -160,8 +160,8 @@ fn reduced_order_needs_finite_kinematics() {
 /// With the abdominal wall free (the shipped pelvis sweep's setting; the model trains on a
 /// slow press instead of static equilibria there), the peaks of the floor stress over the
 /// sweep's press (0.8 N/mm at 0.5 Hz) are within 1 % of full order's on every shipped
-/// configuration, at the default wall stiffness and the sweep's softest (measured
-/// 2026-11-26, one run: at most 0.57 %).
+/// configuration at the sweep's softest wall, and on the normal one at the default wall
+/// stiffness (measured 2026-11-26, one run, every configuration at both: at most 0.57 %).
 #[test]
 fn the_free_wall_follows_full_order_too() {
     let peaks = |order: &str, configuration: &str, wall_e: f64| -> [f64; 2] {
@@ -182,18 +182,17 @@ fn the_free_wall_follows_full_order_too() {
         assert!(s.take_warnings().is_empty(), "{order} {configuration}");
         peak
     };
-    for wall_e in [0.0225, 0.01] {
-        for configuration in ["normal", "narrow", "wide", "lordotic", "tilted"] {
-            let full = peaks("full", configuration, wall_e);
-            let reduced = peaks("reduced", configuration, wall_e);
-            for ((f, r), name) in full.iter().zip(&reduced).zip(QUANTITIES) {
-                let error = (r - f).abs() / f;
-                println!(
-                    "{configuration:9} wall_E {wall_e}: {name} {:.3} %",
-                    100.0 * error
-                );
-                assert!(error <= 0.01, "{configuration} {wall_e} {name}: {error}");
-            }
+    let softest = ["normal", "narrow", "wide", "lordotic", "tilted"].map(|c| (c, 0.01));
+    for (configuration, wall_e) in [("normal", 0.0225)].into_iter().chain(softest) {
+        let full = peaks("full", configuration, wall_e);
+        let reduced = peaks("reduced", configuration, wall_e);
+        for ((f, r), name) in full.iter().zip(&reduced).zip(QUANTITIES) {
+            let error = (r - f).abs() / f;
+            println!(
+                "{configuration:9} wall_E {wall_e}: {name} {:.3} %",
+                100.0 * error
+            );
+            assert!(error <= 0.01, "{configuration} {wall_e} {name}: {error}");
         }
     }
 }

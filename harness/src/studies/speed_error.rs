@@ -20,6 +20,7 @@ use anyhow::{ensure, Context, Result};
 use models::scene::abdomen::Abdomen;
 use models::scene::Scene;
 use models::verify::richardson::{extrapolate, Extrapolation};
+use rayon::prelude::*;
 
 use crate::sweep::{simulate, simulate_observed, InProcess, Schedule, Session, Value};
 
@@ -319,34 +320,41 @@ pub fn reference(setting: ReferenceSetting, duration: f64) -> Result<Reference> 
         integrator: "houbolt",
         dt,
     };
-    let fine = run(graded(setting.target, setting.dt), duration)?;
-    let peak = |k: usize| fine.histories[k].iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    // Time step: halving it on the coarsest mesh of the family; Houbolt is second order, so
-    // the error at dt is 4/3 of the change.
-    let coarse = graded(setting.target / 16, setting.dt);
-    let halved = run(
-        Setting {
-            dt: setting.dt / 2.0,
-            ..coarse
+    // The reference run beside its error estimates (none of them is timed): on two cores
+    // the run takes about as long as the rest.
+    let (fine, estimates) = rayon::join(
+        || run(graded(setting.target, setting.dt), duration),
+        || {
+            // Time step: halving it on the coarsest mesh of the family; Houbolt is second
+            // order, so the error at dt is 4/3 of the change.
+            let coarse = graded(setting.target / 16, setting.dt);
+            let halved = Setting {
+                dt: setting.dt / 2.0,
+                ..coarse
+            };
+            // Mesh: the static outputs at the peak press on the graded family and on
+            // uniform nested meshes of the same sizes.
+            let uniform = [1, 2, 3].map(|subdivisions| Setting {
+                grading: 0.0,
+                triangles: setting.target / 64,
+                subdivisions,
+                ..graded(0, setting.dt)
+            });
+            let statics = |settings: [Setting; 3]| -> Result<Vec<Vec<f64>>> {
+                settings.into_iter().map(static_outputs).collect()
+            };
+            anyhow::Ok((
+                [run(coarse, duration)?, run(halved, duration)?],
+                statics([16, 4, 1].map(|d| graded(setting.target / d, setting.dt)))?,
+                statics(uniform)?,
+            ))
         },
-        duration,
-    )?;
-    let coarse = run(coarse, duration)?;
+    );
+    let (fine, ([coarse, halved], graded_statics, uniform_statics)) = (fine?, estimates?);
+    let peak = |k: usize| fine.histories[k].iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let time_error: [f64; N] = std::array::from_fn(|k| {
         4.0 / 3.0 * relative_deviation(&coarse.histories[k], &halved.histories[k])
     });
-    // Mesh: the static outputs at the peak press on the graded family and on uniform nested
-    // meshes of the same sizes.
-    let statics = |settings: [Setting; 3]| -> Result<Vec<Vec<f64>>> {
-        settings.into_iter().map(static_outputs).collect()
-    };
-    let graded_statics = statics([16, 4, 1].map(|d| graded(setting.target / d, setting.dt)))?;
-    let uniform_statics = statics([1, 2, 3].map(|subdivisions| Setting {
-        grading: 0.0,
-        triangles: setting.target / 64,
-        subdivisions,
-        ..graded(0, setting.dt)
-    }))?;
     let fit = |statics: &[Vec<f64>], k: usize| {
         let values = [0, 1, 2].map(|i| statics[i][STATIC_INDEX[k]]);
         extrapolate(values, 2.0).map_err(|e| e.to_string())
@@ -474,9 +482,15 @@ pub fn stability() -> Vec<Stability> {
         ("huge dt (0.1 s), finite strain", finite.to_vec(), 0.1),
         ("dt = 1 ms (above explicit limits)", vec![], 1e-3),
     ];
-    let mut out = Vec::new();
-    for (case, extra, dt) in cases {
-        for integrator in ["houbolt", "newmark", "central_difference", "rk4"] {
+    let runs: Vec<_> = cases
+        .iter()
+        .flat_map(|case| {
+            ["houbolt", "newmark", "central_difference", "rk4"].map(|integrator| (case, integrator))
+        })
+        .collect();
+    // Nothing here is timed: the cases run side by side.
+    runs.into_par_iter()
+        .map(|((case, extra, dt), integrator)| {
             let mut settings = Setting {
                 kinematics: "linear",
                 element: "tri6",
@@ -486,18 +500,17 @@ pub fn stability() -> Vec<Stability> {
                 subdivisions: 0,
                 order: "full",
                 integrator,
-                dt,
+                dt: *dt,
             }
             .values();
             settings.extend(extra.iter().map(|(k, v)| (k.to_string(), v.clone())));
-            out.push(Stability {
+            Stability {
                 case,
                 integrator,
-                outcome: hard_run(&settings, dt),
-            });
-        }
-    }
-    out
+                outcome: hard_run(&settings, *dt),
+            }
+        })
+        .collect()
 }
 
 /// 0.1 s of `settings` at step `dt`: "bounded (peak |u| …)" or the scene's error.

@@ -39,12 +39,34 @@ const PARALLEL_VALUES: usize = 1 << 20;
 
 /// How faer stores the Cholesky factor, and with it the ordering. Simplicial (AMD) is faster
 /// per solve for 2D meshes; supernodal (nested dissection) is much faster to factorize for
-/// 3D meshes (measured; see BENCHMARKS.md).
+/// 3D meshes and for large 2D ones (measured; see BENCHMARKS.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Factorization {
     #[default]
     Simplicial,
     Supernodal,
+}
+
+/// 2D systems of more equations than this are factorized supernodally even where one factor
+/// serves many solves ([`Factorization::plane`]).
+pub const PLANE_SIMPLICIAL_LIMIT: usize = 100_000;
+
+impl Factorization {
+    /// The storage for a 2D system of `equations` unknowns whose factor is `reused` for many
+    /// solves (a linear time integration) or not (Newton's iterations and static solves
+    /// refactorize for about every solve): simplicial for a reused factor of up to
+    /// [`PLANE_SIMPLICIAL_LIMIT`] equations, supernodal otherwise. Measured (2026-11-27, one
+    /// run each, `harness simulate abdomen`, tri6): finite strain, 20 steps on 12,806
+    /// triangles 17.4 s simplicial, 10.2 s supernodal (2 s on the default mesh 1.64 / 1.55 s);
+    /// linear, 200 steps on the same mesh 2.31 / 2.76 s, on 64,832 triangles (four times
+    /// split three times) 17.0 / 16.1 s, and 3 steps there 8.2 / 5.0 s.
+    pub fn plane(equations: usize, reused: bool) -> Self {
+        if reused && equations <= PLANE_SIMPLICIAL_LIMIT {
+            Self::Simplicial
+        } else {
+            Self::Supernodal
+        }
+    }
 }
 
 /// A symbolic + numeric Cholesky factorization with its workspace. Indices are 32-bit

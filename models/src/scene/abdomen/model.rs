@@ -248,17 +248,11 @@ impl Model {
             values.string(COSTAL_MARGIN)?,
         )?;
         let bc = Dirichlet::new(asm, &fixed)?;
-        let mut structure = Structure::new(
-            bc,
-            &k,
-            &m,
-            &lumped,
-            Damping::NONE,
-            Factorization::Simplicial,
-        )?;
-        structure.set_damping_matrix(&c);
         let tension = Arc::new(SharedTension::default());
         let body = disc.body_forces(&props, DIAPHRAGM, &tension);
+        let factorization = Factorization::plane(bc.n_free(), body.is_none());
+        let mut structure = Structure::new(bc, &k, &m, &lumped, Damping::NONE, factorization)?;
+        structure.set_damping_matrix(&c);
         if let Some(body) = &body {
             structure =
                 structure.with_internal_forces(quadratic_plane::internal_forces(body.clone()));
@@ -628,7 +622,8 @@ impl Model {
         self.structure.dirichlet().expand(&self.unit_load, &mut f);
         f.iter_mut().for_each(|x| *x *= force);
         let mut u = vec![0.0; f.len()];
-        let mut statics = Statics::new(asm, &self.fixed, Factorization::Simplicial)?;
+        let once = Factorization::plane(self.structure.n(), false);
+        let mut statics = Statics::new(asm, &self.fixed, once)?;
         statics.factorize(&self.k)?;
         statics.solve(asm.matrix(&self.k), &f, &mut u);
         Ok(u)
@@ -651,7 +646,7 @@ impl Model {
         let mut newton = Newton::new(
             asm,
             &self.fixed,
-            Factorization::Simplicial,
+            Factorization::plane(self.structure.n(), false),
             Settings::default(),
         )?;
         let mut contracting = Contracting {
