@@ -42,10 +42,14 @@
 //! the material part along the line and the geometric part across it: a membrane in tension
 //! resists transverse motion (a string under pressure takes a circular arc with tension
 //! p R), a straight one at rest does not (at λ = 1 without T the tangent is the linear
-//! element's). A slack line's geometric part is negative, N/λ ≥ −E A δ/λ; the tangent
-//! leaves it out (N is replaced by max(N, 0) there: the tension-field tangent), so that a
-//! line never makes the system matrix indefinite. The forces are exact, and so are the
-//! equilibria Newton's method converges to; only its rate near slack lines is linear.
+//! element's). A slack line's geometric part is negative, N/λ ≥ −E A δ/λ, and the tangent
+//! keeps it: it is the force's exact derivative, so Newton's method converges quadratically
+//! near slack lines too. Where that makes a system matrix indefinite, the time step's
+//! Newton iteration shifts it towards the mass (`Effective::factorize_tangent` in
+//! [`crate::solve`]) and the static one cuts its increment back. The tension-field tangent
+//! (N replaced by max(N, 0), never indefinite) was used before; measured (2026-11-27, one
+//! run each, `harness simulate abdomen`, 2 s at 10 ms): the default press 1.55 → 1.34 s,
+//! with the abdominal wall free 3.07 → 1.99 s, the outputs the same to 10⁻⁹ of their peaks.
 
 use nalgebra::{Matrix2, SMatrix, SVector, Vector2};
 
@@ -152,9 +156,8 @@ impl<const N: usize, const Q: usize> Line<'_, N, Q> {
         Ok(out)
     }
 
-    /// Adds the internal force and, when asked, the tangent (with the geometric part of
-    /// tension only) of the line of `section` to `force` and `tangent` (see the module
-    /// documentation).
+    /// Adds the internal force of the line of `section` to `force` and, when asked, its
+    /// exact tangent to `tangent` (see the module documentation).
     pub fn internal<const D: usize>(
         &self,
         u: &SVector<f64, D>,
@@ -174,7 +177,7 @@ impl<const N: usize, const Q: usize> Line<'_, N, Q> {
             };
             let tt = p.tangent * p.tangent.transpose();
             let block = tt * (section.area * nominal_tangent(section.young, p.stretch))
-                + (Matrix2::identity() - tt) * (carried.max(0.0) / p.stretch);
+                + (Matrix2::identity() - tt) * (carried / p.stretch);
             for (a, ga) in p.gradients.iter().enumerate() {
                 for (b, gb) in p.gradients.iter().enumerate() {
                     let mut view = k.fixed_view_mut::<2, 2>(2 * a, 2 * b);
@@ -369,10 +372,10 @@ mod tests {
         }
     }
 
-    /// A compressed (slack) line: the tangent is the force's derivative without the negative
-    /// geometric part, and positive semidefinite.
+    /// A compressed (slack) line: the tangent is the force's derivative, negative geometric
+    /// part included, so it is indefinite across the line.
     #[test]
-    fn a_slack_line_has_the_tension_field_tangent() {
+    fn a_slack_line_has_the_consistent_tangent() {
         let p = line();
         let element = line3::membrane(&p);
         // Shortened to 0.9 of its length and bent.
@@ -383,15 +386,16 @@ mod tests {
         let (f, k) = forces(&element, &u);
         assert!(f.iter().all(|x| x.is_finite()));
         let eigen = k.symmetric_eigenvalues();
-        assert!(eigen.min() > -1e-12 * eigen.max(), "{eigen}");
+        assert!(eigen.min() < -1e-6 * eigen.max(), "{eigen}");
         let h = 1e-7;
-        let mut fd = line3::Dofs::zeros();
-        let direction = line3::Dofs::from_fn(|r, _| if r == 3 { 1.0 } else { 0.0 });
-        fd += (forces(&element, &(u + direction * h)).0 - forces(&element, &(u - direction * h)).0)
-            / (2.0 * h);
-        // The omitted part is N/λ (I − t tᵀ) with |N| ≤ E A δ: below E A δ / 0.8 per unit.
-        let gap = (fd - k * direction).amax();
-        assert!(gap > 0.0 && gap < E * AREA * SLACK * 20.0, "{gap:e}");
+        for c in 0..6 {
+            let direction = line3::Dofs::from_fn(|r, _| if r == c { 1.0 } else { 0.0 });
+            let fd = (forces(&element, &(u + direction * h)).0
+                - forces(&element, &(u - direction * h)).0)
+                / (2.0 * h);
+            let gap = (fd - k * direction).amax() / k.amax();
+            assert!(gap < 1e-6, "column {c}: {gap:e}");
+        }
     }
 
     #[test]
