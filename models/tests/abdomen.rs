@@ -224,8 +224,7 @@ fn stiffness_change_mid_run_takes_effect_and_continues() {
 
 #[test]
 fn hard_cases_stay_bounded() {
-    // ν = 0.499 (finite strain), and line elements 1e6 times stiffer than the cavity at
-    // both kinematics.
+    // ν = 0.499 (finite strain), and line elements 1e6 times stiffer than the cavity.
     let stiff = vec![("wall_E", 5e3), ("diaphragm_E", 5e3), ("floor_E", 5e3)];
     for (strings, reals) in [
         (vec![], vec![("cavity_nu", 0.499)]),
@@ -239,15 +238,34 @@ fn hard_cases_stay_bounded() {
     // round-off in the residual that Newton's method cannot get below: it stops there
     // instead of wandering (before 2026-11-27 it wandered: 50–99 iterations per step on
     // 300 triangles, and on this mesh a step failed after the most iterations allowed).
-    let mut s = scene(&[], &stiff);
-    let mut most = 0;
-    for i in 0..100 {
-        s.do_step(f64::from(i) * 1e-3, 1e-3).unwrap();
-        most = most.max(s.newton_iterations().unwrap());
-        assert!(s.get("cavity_vm_max").unwrap().is_finite());
-    }
-    println!("stiff membranes at finite strain: at most {most} Newton iterations per step");
-    assert!(most <= 10, "{most} Newton iterations in a step");
+    // At strains of 10⁻⁷ the finite-strain run is the linear one to far below 10⁻³ of its
+    // motion, unless the stop accepted states short of equilibrium.
+    let apex = |kinematics: &str| {
+        let mut s = scene(&[("kinematics", kinematics)], &stiff);
+        let mut most = 0;
+        let history: Vec<f64> = (0..100)
+            .map(|i| {
+                s.do_step(f64::from(i) * 1e-3, 1e-3).unwrap();
+                most = most.max(s.newton_iterations().unwrap());
+                s.get("apex_uy").unwrap()
+            })
+            .collect();
+        (history, most)
+    };
+    let (finite, most) = apex("finite");
+    let (linear, _) = apex("linear");
+    let peak = linear.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let gap = finite
+        .iter()
+        .zip(&linear)
+        .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()))
+        / peak;
+    println!(
+        "stiff membranes at finite strain: at most {most} Newton iterations per step, \
+         apex within {gap:e} of the linear run's peak"
+    );
+    assert!(most <= 7, "{most} Newton iterations in a step");
+    assert!(gap <= 1e-3, "{gap:e}");
     // Houbolt from dt = 1e-5 s to 0.1 s: bounded by the static response to the peak force.
     let bound = {
         let s = scene(&[], &[]);

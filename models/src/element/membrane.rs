@@ -23,8 +23,9 @@
 //! so that P is E ε at small strain (s'(0) = 1 from both sides: at rest the tangent is the
 //! linear element's), the compressive stress saturates at E δ, and the tangent
 //! dP/dλ = E (s'(x) − s(x)) / λ² is continuous. δ = [`SLACK`] = 10⁻³ (measured on the
-//! default abdomen: the exact kink, δ → 0, made Newton's method cycle in the first time step;
-//! δ = 10⁻⁴ failed a quarter into the press on the mixed element; δ = 10⁻² let the slack
+//! default abdomen in 2026-11, with the tension-field tangent below: the exact kink, δ → 0,
+//! made Newton's method cycle in the first time step; δ = 10⁻⁴ failed a quarter into the
+//! press on the mixed element; δ = 10⁻² let the slack
 //! diaphragm carry enough compression to make the mixed element's tangent indefinite at the
 //! end of a press).
 //!

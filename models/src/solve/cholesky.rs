@@ -1,6 +1,7 @@
 //! Sparse Cholesky factorization (faer, 32-bit indices) with a fill-reducing ordering: faer's
-//! AMD for the simplicial storage (2D meshes), nested dissection (METIS, [`super::ordering`])
-//! for the supernodal one (3D meshes). The simplicial factor is solved by the project's own
+//! AMD for the simplicial storage (2D systems whose factor serves many solves), nested
+//! dissection (METIS, [`super::ordering`]) for the supernodal one (3D meshes, and 2D systems
+//! refactorized often or large: [`Factorization::plane`]). The simplicial factor is solved by the project's own
 //! sweeps ([`super::sweeps`]), the supernodal one by faer. The symbolic analysis is done once
 //! per pattern; numeric refactorization and solves reuse it and the preallocated workspace,
 //! so a solve allocates nothing.
@@ -105,7 +106,8 @@ impl std::fmt::Debug for Cholesky {
 }
 
 impl Cholesky {
-    /// Symbolic analysis (AMD ordering, elimination tree, factor pattern) of a symmetric
+    /// Symbolic analysis (ordering — AMD or nested dissection by `factorization` —,
+    /// elimination tree, factor pattern) of a symmetric
     /// pattern stored with both triangles.
     pub fn analyze(
         pattern: SymbolicSparseColMatRef<'_, usize>,

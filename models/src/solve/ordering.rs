@@ -1,5 +1,6 @@
 //! Fill-reducing ordering by nested dissection (METIS `METIS_NodeND`, vendored by the
-//! `metis-sys` crate) for the supernodal Cholesky factorization of 3D meshes. Measured on
+//! `metis-sys` crate) for the supernodal Cholesky factorization (3D meshes and the 2D systems
+//! of [`super::Factorization::plane`]). Measured on
 //! the cut block (6 × 16 × 14 cubes, one noisy run each): tet4 factor 0.73 M entries and
 //! 9.5 ms against 0.78 M and 14.8 ms with faer's AMD; tet10 14.1 M entries and 0.42–0.53 s
 //! against 15.4 M and 0.65 s.

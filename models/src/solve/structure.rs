@@ -422,7 +422,8 @@ impl Structure {
 
 /// Newton iterations a finite-strain step may take. Most steps take 2–7; the steps in
 /// which the abdomen's membranes go slack at the end of a press took up to 93 on the mixed
-/// element (measured: default scene, ν = 0.4999, 10 ms steps).
+/// element (measured before 2026-11-27, with the membranes' tension-field tangent: default
+/// scene, ν = 0.4999, 10 ms steps).
 const MAX_NEWTON_ITERATIONS: usize = 100;
 /// A step has converged when ‖R‖ ≤ this fraction of the step's force scale (the largest
 /// norm of the terms that balance: the right-hand side, the internal and the inertia and
@@ -438,8 +439,9 @@ const ROUND_OFF_CORRECTION: f64 = 1e-10;
 /// rising as 1 − cos) gives corrections no iteration can make relatively small; 10⁻¹³ mm is
 /// far below anything an output resolves.
 const DISPLACEMENT_FLOOR: f64 = 1e-3;
-/// A fresh Newton correction below this fraction of the displacement that gives no descent
-/// is round-off (stiff membranes on soft contents, a contrast of 10⁶, reach about 10⁻⁹).
+/// A fresh Newton correction below this fraction of the displacement that gives no descent,
+/// or that (unshifted, taken in full) does not halve the residual, is round-off (stiff
+/// membranes on soft contents, a contrast of 10⁶, reach about 10⁻⁹).
 const STALLED_CORRECTION: f64 = 1e-8;
 /// Shifts towards the mass tried when a tangent is not positive definite
 /// ([`Effective::factorize_tangent`]).
@@ -563,8 +565,9 @@ impl Effective {
     }
 
     /// Factorizes (c_m + σ) M + c_c C + K_T at `x` (the last residual's state): σ = 0, or
-    /// where that is not positive definite (the contents near an instability, or an iterate
-    /// beyond the solution) the smallest of 10⁻⁴, 10⁻³, … times trace K_T / trace M that
+    /// where that is not positive definite (the contents near an instability, an iterate
+    /// beyond the solution, or slack membranes, whose exact tangent is negative across
+    /// them) the smallest of 10⁻⁴, 10⁻³, … times trace K_T / trace M that
     /// makes it so — a shift towards the mass that keeps Newton's corrections descent
     /// directions (pseudo-transient continuation).
     fn factorize_tangent(
@@ -675,12 +678,18 @@ impl Effective {
             x.copy_from_slice(&w.trial);
             let size = alpha * max_abs(&w.correction);
             let magnitude = max_abs(x).max(DISPLACEMENT_FLOOR);
-            // Converged: a correction within round-off of u; or a fresh tangent's correction
+            // Converged: a correction within round-off of u; or the full step along an
+            // unshifted fresh tangent's correction (Newton's estimate of the error in u)
             // below STALLED_CORRECTION of u that does not halve the residual — the residual
             // is the stresses' round-off (stiff lines at strains of 10⁻⁹ leave corrections
             // of 10⁻¹² mm that wander without end; measured 2026-11-27: 50–99 iterations
-            // per step on a 10⁶ stiffness contrast).
-            let stalled = fresh && next > 0.5 * r && size <= STALLED_CORRECTION * magnitude;
+            // per step on a 10⁶ stiffness contrast). Not bounded by the residual: its scale
+            // there is itself of the round-off's size.
+            let stalled = fresh
+                && self.shift == 0.0
+                && alpha == 1.0
+                && next > 0.5 * r
+                && size <= STALLED_CORRECTION * magnitude;
             (previous, r, scale) = (r, next, next_scale);
             if size <= ROUND_OFF_CORRECTION * magnitude || stalled {
                 w.iterations = iteration;
