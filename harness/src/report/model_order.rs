@@ -56,10 +56,7 @@ fn compare(peaks: &BTreeMap<usize, f64>, reference: &BTreeMap<usize, f64>) -> (f
         .iter()
         .filter_map(|(id, x)| peaks.get(id).map(|y| (*x, *y)))
         .collect();
-    let worst = both
-        .iter()
-        .map(|(x, y)| (x - y).abs() / x.abs())
-        .fold(0.0, f64::max);
+    let worst = model_orders::worst_relative(both.iter().copied());
     let mut swapped = 0;
     for (i, a) in both.iter().enumerate() {
         swapped += both[i + 1..]

@@ -141,10 +141,20 @@ fn case(order: Order, configuration: &'static str) -> Result<Case> {
 /// The largest relative error of quantity `j`'s peak in `s` against `reference`, case by
 /// case (the same configurations in the same order).
 pub fn worst_error(s: &OrderRun, reference: &OrderRun, j: usize) -> f64 {
-    s.cases
-        .iter()
-        .zip(&reference.cases)
-        .map(|(a, b)| (a.peaks[j] - b.peaks[j]).abs() / b.peaks[j].abs())
+    worst_relative(
+        reference
+            .cases
+            .iter()
+            .zip(&s.cases)
+            .map(|(b, a)| (b.peaks[j], a.peaks[j])),
+    )
+}
+
+/// The largest |y − x| / |x| over pairs (reference x, value y).
+pub fn worst_relative(pairs: impl IntoIterator<Item = (f64, f64)>) -> f64 {
+    pairs
+        .into_iter()
+        .map(|(x, y)| (y - x).abs() / x.abs())
         .fold(0.0, f64::max)
 }
 

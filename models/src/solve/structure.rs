@@ -311,8 +311,7 @@ impl Structure {
         v: &[f64],
         out: &mut [f64],
     ) -> Result<(), ModelError> {
-        let mut full = [vec![0.0; self.bc.n_dofs()], vec![0.0; self.bc.n_dofs()]];
-        self.unbalanced_with(f, u, v, out, &mut full)
+        self.unbalanced_with(f, u, v, out, &mut self.residual_work())
     }
 
     /// [`unbalanced`](Self::unbalanced) with `full`, two vectors of all dofs, as the work

@@ -186,13 +186,13 @@ fn quasi_static(
         model.press_run([range.press, range.frequency / SLOW_PRESS, dt, 0.5])?;
     // Every SLOW_STRIDE-th state, and the last (the peak) in any case.
     let last = states.len().saturating_sub(1);
-    let kept = |i: &usize| (i + 1).is_multiple_of(SLOW_STRIDE) || *i == last;
-    let states = states.into_iter().enumerate().filter(|(i, _)| kept(i));
-    let presses = presses.into_iter().enumerate().filter(|(i, _)| kept(i));
-    Ok((
-        states.map(|x| x.1).collect(),
-        presses.map(|x| x.1).collect(),
-    ))
+    let kept = |i: usize| (i + 1).is_multiple_of(SLOW_STRIDE) || i == last;
+    Ok(states
+        .into_iter()
+        .zip(presses)
+        .enumerate()
+        .filter_map(|(i, state)| kept(i).then_some(state))
+        .unzip())
 }
 
 /// The free wall's quasi-static press runs at the training frequency divided by this.
