@@ -67,6 +67,8 @@ pub struct Geometry {
     /// planes in y (one at y_cut) and z (one at the cut bottom).
     cells_x: usize,
     planes_yz: [Vec<f64>; 2],
+    /// β of the power-law grading towards the cut plane, the cut bottom and the tip.
+    grading: f64,
     /// Incision plane and the bottom of the incision (z); `None` for depth 0.
     pub y_cut: f64,
     pub z_cut: Option<f64>,
@@ -227,6 +229,7 @@ impl Geometry {
             layer: y_cut - y_planes[at - 1],
             cells_x: cells[0],
             planes_yz: [y_planes, z_planes],
+            grading,
             y_cut,
             z_cut,
             press_radius,
@@ -254,25 +257,40 @@ impl Geometry {
         }
     }
 
-    /// The x node planes of the mesh cut up to `front` (a value of [`Self::front`]): the
-    /// uniform grid of cell width h slid along x so that a plane lies at the front, planes
-    /// at front + k h for every whole k that leaves at least [`SNAP`] h to the end faces,
-    /// and the end faces. Around the front the mesh is the same wherever the front is, so
-    /// the tip is resolved alike at every blade position and the outputs change smoothly
-    /// with it; the cells at the end faces grow and shrink, and a cell appears or vanishes
-    /// there (a cell of width δ → 0 ties its two planes together, which is the mesh
-    /// without it). With the front at 0 or at the far end the planes are the uniform ones.
+    /// Distance from the front of its k-th x plane on either side (k ≤ n = `cells_x`):
+    /// k h on the uniform grid (β = 1), L (k/n)^β graded towards the tip — the power law of
+    /// the y and z layers ([`graded`]) over the block's length L, so the cells beside the tip
+    /// are L / n^β wide and grow away from it.
+    fn x_offset(&self, k: usize) -> f64 {
+        if self.grading == 1.0 {
+            k as f64 * self.cell_x()
+        } else {
+            self.size[0] * (k as f64 / self.cells_x as f64).powf(self.grading)
+        }
+    }
+
+    /// The x node planes of the mesh cut up to `front` (a value of [`Self::front`]): a grid
+    /// slid along x so that a plane lies at the front, planes at front ± [`Self::x_offset`]
+    /// (k) that leave at least [`SNAP`] h to the end faces, and the end faces. Around the
+    /// front the mesh is the same wherever the front is, so the tip is resolved alike at
+    /// every blade position and the outputs change smoothly with it; the cells at the end
+    /// faces grow and shrink, and a cell appears or vanishes there (a cell of width δ → 0
+    /// ties its two planes together, which is the mesh without it). With the front at 0 or
+    /// at the far end the planes are the uniform ones (β = 1) or those of [`graded`]
+    /// towards that face.
     ///
     /// Also returns whether the cubes' split must be mirrored so that the cube just ahead
     /// of the front is split alike at every blade position (and as the uniform block's
     /// first cube when the front is at the far end).
     pub fn x_planes(&self, front: f64) -> (Vec<f64>, bool) {
         let (l, h) = (self.size[0], self.cell_x());
-        let n = self.cells_x as i64;
+        let n = self.cells_x;
         let mut planes = vec![0.0];
+        let behind = (1..=n).rev().map(|k| front - self.x_offset(k));
+        let ahead = (0..=n).map(|k| front + self.x_offset(k));
         planes.extend(
-            (-n..=n)
-                .map(|k| front + k as f64 * h)
+            behind
+                .chain(ahead)
                 .filter(|&x| x >= SNAP * h && x <= l - SNAP * h),
         );
         planes.push(l);
@@ -358,21 +376,7 @@ mod tests {
     /// ahead of it is split alike; at 0 and at the far face the planes are the uniform ones.
     #[test]
     fn x_planes_follow_the_front_with_the_grid_around_it() {
-        let options = Options {
-            strategy: Strategy::Duplicate,
-            support: Support::Clamped,
-            contact: true,
-        };
-        let g = Geometry::new(
-            [100.0, 80.0, 17.0],
-            [6, 16, 14],
-            45.0,
-            8.5,
-            5.0,
-            1.0,
-            options,
-        )
-        .unwrap();
+        let g = default_block(1.0);
         let h = 100.0 / 6.0;
         let uniform: Vec<f64> = (0..=6).map(|i| 100.0 * f64::from(i) / 6.0).collect();
         for front in [0.0, 100.0] {
@@ -408,5 +412,75 @@ mod tests {
         assert_eq!(g.front(1e-3 * h * 0.9), 0.0);
         assert_eq!(g.front(100.0 - 1e-3 * h * 0.9), 100.0);
         assert_eq!(g.front(250.0), 100.0);
+    }
+
+    /// The default block (100 × 80 × 17 mm, 6 × 16 × 14 cells, cut at y = 45 mm to half
+    /// depth) graded with `beta`.
+    fn default_block(beta: f64) -> Geometry {
+        let options = Options {
+            strategy: Strategy::Duplicate,
+            support: Support::Clamped,
+            contact: true,
+        };
+        Geometry::new(
+            [100.0, 80.0, 17.0],
+            [6, 16, 14],
+            45.0,
+            8.5,
+            5.0,
+            beta,
+            options,
+        )
+        .unwrap()
+    }
+
+    /// β = 2: wherever the front is, the x planes inside the block are the front and the
+    /// front ± 100 (k/6)² mm, so the cells beside the tip are 100/36 mm wide (where they
+    /// do not reach an end face) and the cube ahead of it is split alike; the cells at the
+    /// end faces are at least SNAP h wide. With the full cut the planes are graded towards
+    /// the far face: 100 (1 − (k/6)²).
+    #[test]
+    fn graded_x_planes_are_finest_at_the_tip() {
+        let g = default_block(2.0);
+        let (h, tip) = (100.0 / 6.0, 100.0 / 36.0);
+        let offsets: Vec<f64> = (0..=6)
+            .map(|k| 100.0 * (f64::from(k) / 6.0).powi(2))
+            .collect();
+        let mut split = None;
+        for k in 1..2000 {
+            let front = g.front(0.05 * f64::from(k));
+            let (p, mirrored) = g.x_planes(front);
+            let at = p
+                .iter()
+                .position(|&x| x == front)
+                .expect("a plane at the front");
+            assert!(
+                p.windows(2).all(|w| w[1] - w[0] >= SNAP * h),
+                "front {front}: {p:?}"
+            );
+            for &x in &p[1..p.len() - 1] {
+                let on_grid = offsets.iter().any(|d| ((x - front).abs() - d).abs() < 1e-9);
+                assert!(on_grid, "front {front}: plane {x} in {p:?}");
+            }
+            for side in [at.wrapping_sub(1), at + 1] {
+                let inner = side > 0 && side + 1 < p.len();
+                assert!(
+                    !inner || ((p[side] - front).abs() - tip).abs() < 1e-9,
+                    "{p:?}"
+                );
+            }
+            if at + 1 < p.len() {
+                let parity = (at + usize::from(mirrored)) % 2;
+                assert_eq!(*split.get_or_insert(parity), parity, "front {front}");
+            }
+        }
+        let (p, mirrored) = g.x_planes(100.0);
+        let expected: Vec<f64> = offsets.iter().rev().map(|d| 100.0 - d).collect();
+        assert!(!mirrored);
+        assert!(
+            p.iter().zip(&expected).all(|(a, b)| (a - b).abs() < 1e-12),
+            "{p:?}"
+        );
+        assert_eq!(p.len(), expected.len());
     }
 }
