@@ -34,7 +34,7 @@ pub fn section(report: &mut Report, depth: Depth) -> Result<()> {
         report.text(
             "Quick: the three laws with tet4 on the default cells, uniform and graded, \
              against the full study's reference as stored in \
-             `experiments/data/cutblock/reference.toml` (its 1× mesh run again here and \
+             `experiments/references/cutblock_full_cut.toml` (its 1× mesh run again here and \
              matched to its stored answer first); `--full` adds tet10 and tet4 on twice the \
              cells and measures the reference again.",
         );

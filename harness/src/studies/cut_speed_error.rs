@@ -395,10 +395,10 @@ pub fn measure(
 /// The full study's reference meshes as it measured them (`harness cut-speed-error`
 /// writes `reference.toml`), so that the quick report measures against the converged
 /// reference without running its largest meshes.
-pub const STORED: &str = include_str!("../../../experiments/data/cutblock/reference.toml");
+pub const STORED: &str = include_str!("../../../experiments/references/cutblock_full_cut.toml");
 
 /// Where [`STORED`] lives, for messages.
-const STORED_PATH: &str = "experiments/data/cutblock/reference.toml";
+const STORED_PATH: &str = "experiments/references/cutblock_full_cut.toml";
 
 /// The reference meshes as `reference.toml` holds them.
 #[derive(Debug, Serialize, Deserialize)]
@@ -633,6 +633,37 @@ mod tests {
         let l = clamped_edge_exponent(0.43);
         assert!(l > 0.5 && l < clamped_edge_exponent(0.3), "{l}");
         assert!((clamped_edge_order(0.43) - 1.27).abs() < 0.01);
+    }
+
+    /// What `write_reference` writes reads back as the same meshes (the profile's NaN
+    /// where there is no surface included) and gives the same reference.
+    #[test]
+    fn a_written_reference_reads_back_the_same() {
+        let meshes: Vec<(Model, Answer)> = graded_reference(&[1.0])
+            .into_iter()
+            .map(|m| {
+                let answer = Answer {
+                    reaction: 6.4897,
+                    bottom_lift: 3.0175,
+                    profile: vec![17.0, f64::NAN, 16.5],
+                    seconds: 4.5,
+                };
+                (m, answer)
+            })
+            .collect();
+        let reference = reference(meshes).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("reference.toml");
+        write_reference(&reference, "a test", &path).unwrap();
+        let back: Stored = toml::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        assert_eq!(back.measured, "a test");
+        let m = &back.mesh[0];
+        assert_eq!(
+            (m.refine, m.reaction, m.bottom_lift, m.seconds),
+            (1.0, 6.4897, 3.0175, 4.5)
+        );
+        assert_eq!(m.profile.len(), 3);
+        assert!(m.profile[0] == 17.0 && m.profile[1].is_nan() && m.profile[2] == 16.5);
     }
 
     /// The stored reference parses, has the four meshes of the full study and a provenance,
