@@ -35,8 +35,9 @@ pub fn section(report: &mut Report, depth: Depth) -> Result<()> {
             "Quick: the three laws with tet4 on the default cells, uniform and graded, \
              against the full study's reference as stored in \
              `experiments/references/cutblock_full_cut.toml` (its 1× mesh run again here and \
-             matched to its stored answer first); `--full` adds tet10 and tet4 on twice the \
-             cells and measures the reference again.",
+             matched to its stored answer first; the reference meshes' run times are the full \
+             study's); `--full` adds tet10 and tet4 on twice the cells and measures the \
+             reference again.",
         );
     }
     report.text(
@@ -79,9 +80,10 @@ fn reference_table(report: &mut Report, reference: &Reference) -> Result<()> {
         return Ok(());
     };
     let order = |p: Option<f64>| {
-        p.map_or(format!("below {MIN_ORDER} (not extrapolated)"), |p| {
-            format!("{p:.2}")
-        })
+        p.map_or(
+            format!("none of at least {MIN_ORDER} (not extrapolated)"),
+            |p| format!("{p:.2}"),
+        )
     };
     let [p_reaction, p_lift, p_profile] = x.order.map(order);
     let finest: Vec<String> = [
