@@ -3,6 +3,7 @@
 //! ([`pod`] basis, [`ecsw`] weights), and the time integrators behind the
 //! [`Integrator`] trait (one file each: houbolt, newmark, central_difference, rk4).
 
+pub mod anderson;
 pub mod central_difference;
 pub mod cholesky;
 pub mod ecsw;

@@ -12,9 +12,12 @@
 //! refactorized at the current iterate (Newton–Raphson; with `reuse_contraction = 0` every
 //! iteration). After a fresh factorization the step is taken with a backtracking line
 //! search on ‖r_f‖ (α halved while ‖r_f(u + αΔu)‖ > (1 − 10⁻⁴ α) ‖r_f(u)‖, or while an
-//! element inverts); a step with a reused factorization that does not decrease ‖r_f‖ is
-//! undone and the tangent refactorized. The symbolic analysis is made once, in
-//! [`Newton::new`].
+//! element inverts); the steps with a reused factorization are Anderson-accelerated
+//! ([`super::anderson`]: the last steps on the same factorization combined, GMRES-like),
+//! and one that does not decrease ‖r_f‖ is undone and retried plain, and a plain one that
+//! does not is undone and the tangent refactorized. Measured (2026-11-27, one run): after
+//! a tet10 blade advance 14 iterations on the kept factorization became 9. The symbolic
+//! analysis is made once, in [`Newton::new`].
 //!
 //! An increment has converged when ‖r_f‖ ≤ `residual_tolerance` · (the largest force norm
 //! of the solve: internal forces, reactions included, and external forces) and the last
@@ -35,6 +38,7 @@ use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
 
+use super::anderson::Anderson;
 use super::cholesky::{Cholesky, Factorization};
 use crate::assembly::{Assembler, Dirichlet};
 use crate::error::ModelError;
@@ -166,6 +170,8 @@ pub struct Newton {
     f: Vec<f64>,
     r: Vec<f64>,
     du: Vec<f64>,
+    /// Accelerates the iterations on a kept factorization.
+    anderson: Anderson,
     /// Trial state, last converged state, and the predictor's prescribed change (all dofs).
     trial: Vec<f64>,
     converged: Vec<f64>,
@@ -225,6 +231,7 @@ impl Newton {
             f: full(),
             r: vec![0.0; free],
             du: vec![0.0; free],
+            anderson: Anderson::new(free),
             trial: full(),
             converged: full(),
             change: full(),
@@ -432,16 +439,26 @@ impl Newton {
                 self.tangent(eq, to)?;
             }
             self.direction()?;
+            let accelerated = !fresh && self.anderson.has_history();
             let outcome = if fresh {
                 self.line_search(eq, to, norm)
             } else {
+                self.anderson.step(&mut self.du);
                 self.reused_step(eq, to, norm)
             };
             let step = match outcome {
-                Ok((next, step)) => {
+                Ok((next, step, alpha)) => {
+                    if fresh {
+                        self.anderson.start(&self.du, alpha);
+                    }
                     contraction = next / norm.max(1e-300);
                     norm = next;
                     step
+                }
+                // An accelerated step that gave no descent: the plain one next.
+                Err(Failure::LineSearch) if accelerated => {
+                    self.anderson.reset();
+                    continue;
                 }
                 // A reused factorization that gave no descent: refactorize here.
                 Err(Failure::LineSearch) if !fresh => {
@@ -569,18 +586,18 @@ impl Newton {
 
     /// Steps `trial` by Δu from a reused factorization; if ‖r_f‖ does not decrease, undoes
     /// the step (recomputing the residual there) and reports no descent. Returns the new
-    /// ‖r_f‖ and ‖Δu‖_∞.
+    /// ‖r_f‖, ‖Δu‖_∞ and the step length 1.
     fn reused_step(
         &mut self,
         eq: &mut impl Equations,
         s: f64,
         norm: f64,
-    ) -> Result<(f64, f64), Failure> {
+    ) -> Result<(f64, f64, f64), Failure> {
         self.move_trial(1.0);
         match self.residual(eq, s) {
             Ok(next) if next < norm => {
                 let size = self.du.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-                return Ok((next, size));
+                return Ok((next, size, 1.0));
             }
             Ok(_) => {
                 self.report.residuals.pop();
@@ -601,14 +618,14 @@ impl Newton {
         }
     }
 
-    /// Steps `trial` along Δu with a backtracking line search; returns the new ‖r_f‖ and
-    /// the size ‖αΔu‖_∞ of the step taken.
+    /// Steps `trial` along Δu with a backtracking line search; returns the new ‖r_f‖, the
+    /// size ‖αΔu‖_∞ of the step taken and α.
     fn line_search(
         &mut self,
         eq: &mut impl Equations,
         s: f64,
         norm: f64,
-    ) -> Result<(f64, f64), Failure> {
+    ) -> Result<(f64, f64, f64), Failure> {
         let mut alpha = 1.0;
         let mut taken = 0.0;
         for _ in 0..8 {
@@ -618,7 +635,7 @@ impl Newton {
             let size = alpha * self.du.iter().fold(0.0f64, |a, x| a.max(x.abs()));
             match self.residual(eq, s) {
                 Ok(next) if next <= (1.0 - 1e-4 * alpha) * norm || next == 0.0 => {
-                    return Ok((next, size));
+                    return Ok((next, size, alpha));
                 }
                 Ok(_) => {
                     self.report.residuals.pop();
