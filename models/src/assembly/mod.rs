@@ -1,6 +1,8 @@
 //! Sparse assembly (seed 002 §3.3): the symmetric pattern of the global matrices is computed
-//! once from element connectivity, together with a scatter map from each element-matrix entry
-//! to its slot in the value array. Re-assembling after a parameter change only rewrites values.
+//! once from element connectivity, together with a scatter map from each element's node pairs
+//! to their dof blocks in the value array (one entry per node pair rather than per matrix
+//! entry: for tet10, 100 pairs of 16 bytes instead of 900 indices of 8 bytes per element).
+//! Re-assembling after a parameter change only rewrites values.
 //!
 //! All global matrices of one mesh (stiffness, mass, damping, effective matrices) share one
 //! pattern and differ only in their value arrays.
@@ -21,9 +23,12 @@ use rayon::prelude::*;
 #[derive(Debug, Clone)]
 pub struct Assembler {
     symbolic: SymbolicSparseColMat<usize>,
-    /// For element e, `scatter[offsets[e]..offsets[e + 1]]` holds the value index of local
-    /// entry (a, b) at position a·n_e + b.
-    scatter: Vec<usize>,
+    dofs_per_node: usize,
+    /// For element e, `scatter[offsets[e]..offsets[e + 1]]` holds, for its node pair
+    /// (a, b) at position a·n_nodes + b, the value index of the entry (dof 0 of a, dof 0 of
+    /// b) and the distance between the columns of b's dofs: entry (dof i of a, dof j of b)
+    /// is at index + j · distance + i (a node's rows are consecutive in every column).
+    scatter: Vec<(usize, usize)>,
     offsets: Vec<usize>,
 }
 
@@ -60,31 +65,26 @@ impl Assembler {
         }
         let n_dofs = n_nodes * dpn;
         let symbolic = SymbolicSparseColMat::new_checked(n_dofs, n_dofs, col_ptr, None, row_idx);
-        let mut scatter = Vec::new();
-        let mut offsets = vec![0];
+        let mut scatter =
+            Vec::with_capacity(elements.iter().map(|e| e.as_ref().len().pow(2)).sum());
+        let mut offsets = Vec::with_capacity(elements.len() + 1);
+        offsets.push(0);
         for e in elements {
             let nodes = e.as_ref();
-            let n = nodes.len() * dpn;
-            let start = scatter.len();
-            scatter.resize(start + n * n, 0);
-            for (ib, &b) in nodes.iter().enumerate() {
-                for (ia, &a) in nodes.iter().enumerate() {
+            for &a in nodes {
+                for &b in nodes {
                     let pos = adjacent[b]
                         .binary_search(&a)
                         .expect("a and b share an element");
-                    for db in 0..dpn {
-                        let col_start = symbolic.col_ptr()[dpn * b + db];
-                        for da in 0..dpn {
-                            let local = (ia * dpn + da) * n + ib * dpn + db;
-                            scatter[start + local] = col_start + pos * dpn + da;
-                        }
-                    }
+                    let distance = adjacent[b].len() * dpn;
+                    scatter.push((symbolic.col_ptr()[dpn * b] + pos * dpn, distance));
                 }
             }
             offsets.push(scatter.len());
         }
         Self {
             symbolic,
+            dofs_per_node: dpn,
             scatter,
             offsets,
         }
@@ -119,10 +119,16 @@ impl Assembler {
         ke: &Matrix<f64, Const<N>, Const<N>, S>,
     ) {
         let map = &self.scatter[self.offsets[element]..self.offsets[element + 1]];
-        debug_assert_eq!(map.len(), N * N);
-        for a in 0..N {
-            for b in 0..N {
-                values[map[a * N + b]] += ke[(a, b)];
+        let dpn = self.dofs_per_node;
+        let nodes = N / dpn;
+        debug_assert_eq!(map.len(), nodes * nodes);
+        for (pair, &(start, distance)) in map.iter().enumerate() {
+            let (a, b) = (dpn * (pair / nodes), dpn * (pair % nodes));
+            for j in 0..dpn {
+                let column = start + j * distance;
+                for i in 0..dpn {
+                    values[column + i] += ke[(a + i, b + j)];
+                }
             }
         }
     }
