@@ -204,6 +204,17 @@ fn the_cut_block_continues_bit_for_bit() {
             );
         }
     }
+    // The blade still: Newton keeps its factorization from step to step, and what its
+    // iterations on it remember is restored with it.
+    let pull: Inputs = |k| vec![("scalpel_x", 50.0), ("pull", 0.7 * k as f64)];
+    continues(
+        cutblock,
+        (&small, &[("material", "neo-hookean")]),
+        pull,
+        1.0,
+        3,
+        7,
+    );
     // Flanks in contact under a press; a material change pending at the save (step 4).
     let press: Inputs = |k| match k {
         0 => vec![("scalpel_x", 50.0)],

@@ -425,6 +425,8 @@ impl Newton {
     /// equilibrium is in `trial`.
     fn increment(&mut self, eq: &mut impl Equations, from: f64, to: f64) -> Result<usize, Failure> {
         self.report.residuals.clear();
+        // Another load is another map: the steps of earlier increments do not combine.
+        self.anderson.reset();
         self.trial.copy_from_slice(&self.converged);
         self.predict(eq, from, to)?;
         let mut norm = self.residual(eq, to)?;
