@@ -204,8 +204,8 @@ fn the_cut_block_continues_bit_for_bit() {
             );
         }
     }
-    // The blade still: Newton keeps its factorization from step to step, and what its
-    // iterations on it remember is restored with it.
+    // The blade still: Newton keeps its factorization from step to step (restored with the
+    // state), and nothing its iterations on it remember outlives an increment.
     let pull: Inputs = |k| vec![("scalpel_x", 50.0), ("pull", 0.7 * k as f64)];
     continues(
         cutblock,

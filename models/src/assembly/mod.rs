@@ -121,7 +121,11 @@ impl Assembler {
         let map = &self.scatter[self.offsets[element]..self.offsets[element + 1]];
         let dpn = self.dofs_per_node;
         let nodes = N / dpn;
-        debug_assert_eq!(map.len(), nodes * nodes);
+        assert!(
+            N.is_multiple_of(dpn) && map.len() == nodes * nodes,
+            "an element matrix of {N} rows for element {element} of {} nodes",
+            map.len().isqrt()
+        );
         for (pair, &(start, distance)) in map.iter().enumerate() {
             let (a, b) = (dpn * (pair / nodes), dpn * (pair % nodes));
             for j in 0..dpn {

@@ -162,7 +162,10 @@ pub fn block(size: [f64; 3], cells: [usize; 3]) -> Result<Mesh3d, ModelError> {
 /// estimated before anything is allocated: per node its coordinates and about 120 stored
 /// entries of the 3-dof stiffness pattern (measured: 103–112 on the default mesh and two
 /// refinements), each an index and three value copies (element sum, with contact, reduced);
-/// per cube five tetrahedra with their 12 × 12 scatter maps.
+/// per cube five tetrahedra with 32 bytes and a 12 × 12 scatter map of 8-byte indices each
+/// (the assembler's map is smaller since 2026-11-27, 16 node pairs of 16 bytes: the
+/// estimate errs towards refusing by about 4 kB per cube, and is kept so that the refusals
+/// of the FMUs' tested ranges stay where they were).
 fn block_bytes(n: [usize; 3]) -> usize {
     let nodes = n[0].saturating_mul(n[1]).saturating_mul(n[2]);
     let cells = (n[0] - 1).saturating_mul(n[1] - 1).saturating_mul(n[2] - 1);

@@ -7,12 +7,14 @@
 //!
 //!   s_k = g_k − (ΔX + ΔG) γ,   γ = argmin ‖g_k − ΔG γ‖₂,
 //!
-//! which on a linear residual is GMRES preconditioned by K (Walker & Ni, Thm. 2.2): the few
-//! directions in which K⁻¹ K_true differs most from the identity (after a blade advance, the
-//! cells at the new crack front) are removed in a few iterations instead of contracting by
-//! the same factor every iteration. γ comes from the normal equations (ΔGᵀΔG) γ = ΔGᵀ g on
-//! an m × m matrix on the stack (nalgebra), so a step allocates nothing; the history is kept
-//! in preallocated columns.
+//! which on a linear residual and with unlimited depth is GMRES preconditioned by K (Walker &
+//! Ni, Thm. 2.2); with the depth m = [`DEPTH`] it combines the last m steps only. Instead of
+//! contracting every error component by the same factor, the iteration removes the
+//! components the last steps span. γ comes from the normal equations (ΔGᵀΔG) γ = ΔGᵀ g on
+//! an m × m matrix on the stack (nalgebra): they square the condition number (an updated QR
+//! factorization of ΔG would not); a relative floor on the diagonal bounds the damage, and a
+//! step that does not reduce the residual is rejected by the caller. Nothing is allocated
+//! per step; the history is kept in preallocated columns.
 
 use nalgebra::{SMatrix, SVector};
 
@@ -65,14 +67,10 @@ impl Anderson {
         self.started = true;
     }
 
-    /// Whether the next call combines past steps (false right after a reset).
-    pub fn has_history(&self) -> bool {
-        self.started
-    }
-
     /// Turns the map value g(x_k) in `g` into the step s_k to take from x_k (unchanged on
-    /// the first call after a reset), and records it as taken.
-    pub fn step(&mut self, g: &mut [f64]) {
+    /// the first call after a reset), and records it as taken. Returns whether the step
+    /// differs from g (past steps were combined).
+    pub fn step(&mut self, g: &mut [f64]) -> bool {
         if self.started {
             let i = self.next;
             for (((dx, dg), (&s, &gl)), &gk) in self.dx[i]
@@ -89,8 +87,10 @@ impl Anderson {
         }
         self.last_g.copy_from_slice(g);
         let gamma = self.coefficients(g);
+        let mut changed = false;
         for (j, &c) in gamma.iter().enumerate().take(self.count) {
             if c != 0.0 {
+                changed = true;
                 for ((s, &dx), &dg) in g.iter_mut().zip(&self.dx[j]).zip(&self.dg[j]) {
                     *s -= c * (dx + dg);
                 }
@@ -98,6 +98,7 @@ impl Anderson {
         }
         self.last_step.copy_from_slice(g);
         self.started = true;
+        changed
     }
 
     /// γ = argmin ‖g − ΔG γ‖₂ over the valid columns (zero where the normal equations are
@@ -171,7 +172,7 @@ mod tests {
             x.iter_mut().zip(&g).for_each(|(x, s)| *x += s);
         }
         // Exact in exact arithmetic; the Gram matrix's floor (1e-12 of its diagonal) leaves
-        // about 1e-10 of the initial residual 1.6.
+        // a residual of about 1e-10 (‖b‖ = 3.8 at the start).
         assert!(residual(&a, &b, &x) < 1e-9, "{}", residual(&a, &b, &x));
         // The plain (Jacobi) iteration is still far from it after as many steps.
         let mut y = vec![0.0; 4];
@@ -186,15 +187,67 @@ mod tests {
     fn the_first_step_after_a_reset_is_the_plain_one() {
         let (a, b) = problem();
         let mut acc = Anderson::new(4);
-        let mut g = map(&a, &b, &[0.0; 4]);
-        acc.step(&mut g);
-        acc.reset();
-        assert!(!acc.has_history());
-        let x = [0.3, -0.2, 0.1, 0.7];
+        let mut x = vec![0.0; 4];
+        for _ in 0..3 {
+            let mut g = map(&a, &b, &x);
+            acc.step(&mut g);
+            x.iter_mut().zip(&g).for_each(|(x, s)| *x += s);
+        }
         let plain = map(&a, &b, &x);
         let mut g = plain.clone();
-        acc.step(&mut g);
+        assert!(acc.step(&mut g), "with two columns the step is combined");
+        assert_ne!(g, plain);
+        acc.reset();
+        let mut g = plain.clone();
+        assert!(!acc.step(&mut g));
         assert_eq!(g, plain);
-        assert!(acc.has_history());
+    }
+
+    /// `start(g, 1)` is the plain step along g taken by `step`: the next steps agree.
+    #[test]
+    fn a_started_history_continues_as_a_stepped_one() {
+        let (a, b) = problem();
+        let (mut stepped, mut started) = (Anderson::new(4), Anderson::new(4));
+        let x0 = [0.2, 0.1, -0.3, 0.0];
+        let mut g = map(&a, &b, &x0);
+        started.start(&g, 1.0);
+        stepped.step(&mut g);
+        let x1: Vec<f64> = x0.iter().zip(&g).map(|(x, s)| x + s).collect();
+        let (mut g1, mut g2) = (map(&a, &b, &x1), map(&a, &b, &x1));
+        assert!(stepped.step(&mut g1) && started.step(&mut g2));
+        assert_eq!(g1, g2);
+    }
+
+    /// More steps than the depth: the ring of columns wraps and the iteration still
+    /// converges, faster than the plain one, on a 30-unknown diffusion system (Jacobi map).
+    #[test]
+    fn the_history_wraps_past_its_depth() {
+        let n: usize = 30;
+        let a: Vec<Vec<f64>> = (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| match i.abs_diff(j) {
+                        0 => 2.5,
+                        1 => -1.0,
+                        _ => 0.0,
+                    })
+                    .collect()
+            })
+            .collect();
+        let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
+        let (mut x, mut y) = (vec![0.0; n], vec![0.0; n]);
+        let mut acc = Anderson::new(n);
+        for _ in 0..40 {
+            let mut g = map(&a, &b, &x);
+            acc.step(&mut g);
+            x.iter_mut().zip(&g).for_each(|(x, s)| *x += s);
+            let g = map(&a, &b, &y);
+            y.iter_mut().zip(&g).for_each(|(y, s)| *y += s);
+        }
+        let (accelerated, plain) = (residual(&a, &b, &x), residual(&a, &b, &y));
+        // Jacobi contracts by 2 cos(π/31)/2.5 ≈ 0.8 per step: 0.8⁴⁰ ≈ 1e-4 of the start
+        // (‖b‖ ≈ 3.9); the accelerated iteration (measured 1.7e-9) is 1e5 times closer.
+        assert!(accelerated < 1e-8, "{accelerated}");
+        assert!(plain > 1e-5, "{plain}");
     }
 }

@@ -1,4 +1,5 @@
-//! Linear solvers: sparse Cholesky, the static solve, eigenpairs by shift-invert Lanczos and
+//! Linear solvers: sparse Cholesky, the static solve, Newton's method (with Anderson
+//! acceleration of its iterations on a kept factorization, [`anderson`]), eigenpairs by shift-invert Lanczos and
 //! modal reduction ([`lanczos`], [`modal`]), the hyper-reduced finite-strain forces
 //! ([`pod`] basis, [`ecsw`] weights), and the time integrators behind the
 //! [`Integrator`] trait (one file each: houbolt, newmark, central_difference, rk4).

@@ -1,12 +1,16 @@
 //! Fill-reducing ordering by nested dissection (METIS `METIS_NodeND`, vendored by the
 //! `metis-sys` crate) for the supernodal Cholesky factorization (3D meshes and the 2D systems
 //! of [`super::Factorization::plane`]). Measured on
-//! the cut block (6 × 16 × 14 cubes, one noisy run each): tet4 factor 0.73 M entries and
-//! 9.5 ms against 0.78 M and 14.8 ms with faer's AMD; tet10 14.1 M entries and 0.42–0.53 s
-//! against 15.4 M and 0.65 s. The graph METIS orders has one vertex per node rather than
-//! per equation ([`groups`]): on the tet10 block cut to 51 mm (36,954 equations) METIS took
-//! 0.20 s on the equations and 0.14–0.18 s on the nodes, for a factor of 17.2 M and 16.8 M
-//! entries (2026-11-27, one run each).
+//! the cut block (6 × 16 × 14 cubes, one noisy run each, 2026-11-25, when METIS was given
+//! one vertex per equation): tet4 factor 0.73 M entries and 9.5 ms against 0.78 M and
+//! 14.8 ms with faer's AMD; tet10 14.1 M entries and 0.42–0.53 s against 15.4 M and 0.65 s.
+//!
+//! METIS is given one vertex per node ([`groups`]). It would find the same graph itself
+//! (its `compress` option, on by default for `METIS_NodeND`, merges vertices with equal
+//! adjacency and then computes two separators per level): giving it the node graph saves
+//! that pass. On the tet10 block cut to 51 mm (36,954 equations) METIS took 0.20 s on the
+//! equations and 0.14–0.18 s on the nodes (2026-11-27, one run each); the factors' sizes
+//! (17.2 M and 16.8 M entries there, 13.5 M and 13.8 M uncut) differ by ordering noise.
 //!
 //! METIS seeds its random generator at each call, so calls from two threads at once would
 //! race and give orderings that differ from run to run; the calls are therefore serialized.
@@ -25,8 +29,8 @@ use crate::error::ModelError;
 
 /// Separators METIS computes at each level, keeping the smallest. METIS takes 2 itself
 /// when it compresses a graph by more than 1.5 (`ometis.c`); the graph given to it here is
-/// compressed already ([`groups`]). Measured on the tet10 cut block (one run each): 1
-/// separator 18.5 M factor entries, 2 separators 16.8 M, 3 17.6 M.
+/// compressed already ([`groups`]). Measured on the tet10 block cut to 51 mm (2026-11-27,
+/// one run each): 1 separator 18.5 M factor entries, 2 separators 16.8 M, 3 17.6 M.
 const SEPARATORS: i32 = 2;
 
 /// The nested-dissection permutation of a symmetric pattern (both triangles stored):
