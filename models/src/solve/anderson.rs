@@ -16,6 +16,7 @@
 //! step that does not reduce the residual is rejected by the caller. Nothing is allocated
 //! per step; the history is kept in preallocated columns.
 
+use super::product::dot;
 use nalgebra::{SMatrix, SVector};
 
 /// The most past steps combined (m).
@@ -125,10 +126,6 @@ impl Anderson {
             _ => SVector::zeros(),
         }
     }
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 #[cfg(test)]

@@ -17,6 +17,7 @@
 //! Farhat, Avery, Chapman & Cortial, IJNME 98 (2014) §6, made dimensionless by K₀).
 
 use super::cholesky::Cholesky;
+use super::product::dot;
 use super::structure::Structure;
 use crate::error::ModelError;
 
@@ -81,10 +82,6 @@ impl Indicator {
             (error / size).sqrt()
         })
     }
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 #[cfg(test)]

@@ -48,7 +48,7 @@ pub fn nested_dissection(
     }
     let too_large =
         |what: &str| ModelError::LinearAlgebra(format!("{what} exceeds METIS's 32-bit indices"));
-    let first = groups(pattern);
+    let first = groups(pattern, usize::MAX);
     let m = first.len() - 1;
     let mut group_of = vec![0i32; n];
     for g in 0..m {
@@ -106,15 +106,22 @@ pub fn nested_dissection(
         .collect())
 }
 
-/// The starts of the runs of consecutive columns with equal row patterns (ending with n):
-/// such equations are indistinguishable to the elimination, and ordering them as one
-/// vertex gives METIS a graph a third the size for 3 dofs per node.
-fn groups(pattern: SymbolicSparseColMatRef<'_, usize>) -> Vec<usize> {
+/// The starts of the runs of consecutive columns with equal row patterns, each at most
+/// `longest` columns (a longer run is split), ending with n: such equations are
+/// indistinguishable to the elimination, and ordering them as one vertex gives METIS a graph
+/// a third the size for 3 dofs per node; [`super::product`] gathers pairs of them together.
+pub(crate) fn groups(pattern: SymbolicSparseColMatRef<'_, usize>, longest: usize) -> Vec<usize> {
     let col = |j: usize| &pattern.row_idx()[pattern.col_ptr()[j]..pattern.col_ptr()[j + 1]];
     let n = pattern.ncols();
     let mut first = vec![0];
-    first.extend((1..n).filter(|&j| col(j) != col(j - 1)));
-    first.push(n);
+    for j in 1..n {
+        if col(j) != col(j - 1) || j - first[first.len() - 1] == longest {
+            first.push(j);
+        }
+    }
+    if n > 0 {
+        first.push(n);
+    }
     first
 }
 
@@ -144,7 +151,7 @@ mod tests {
         let n = 40;
         let elems: Vec<[usize; 2]> = (0..n - 1).map(|i| [i, i + 1]).collect();
         let asm = Assembler::new(n, 3, &elems);
-        let first = groups(asm.symbolic().as_ref());
+        let first = groups(asm.symbolic().as_ref(), usize::MAX);
         assert_eq!(first, (0..=n).map(|k| 3 * k).collect::<Vec<_>>());
         let perm = nested_dissection(asm.symbolic().as_ref()).unwrap();
         let mut sorted = perm.clone();

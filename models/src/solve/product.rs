@@ -9,6 +9,7 @@
 use faer::sparse::{SymbolicSparseColMat, SymbolicSparseColMatRef};
 
 use super::cholesky::narrow;
+use super::ordering;
 use super::sweeps::gather;
 use crate::error::ModelError;
 
@@ -24,20 +25,10 @@ pub struct SymmetricProduct {
 impl SymmetricProduct {
     /// The product for a symmetric pattern; refused if its entries do not fit 32-bit indices.
     pub fn new(pattern: SymbolicSparseColMatRef<'_, usize>) -> Result<Self, ModelError> {
+        let groups = ordering::groups(pattern, 2);
         let pattern = narrow(pattern)?;
-        let n = pattern.ncols();
-        let rows = |j: usize| pattern.row_idx_of_col_raw(j);
-        let mut groups = Vec::with_capacity(n + 1);
-        let mut j = 0;
-        while j < n {
-            groups.push(j as u32);
-            j += if j + 1 < n && rows(j) == rows(j + 1) {
-                2
-            } else {
-                1
-            };
-        }
-        groups.push(n as u32);
+        // Column indices fit 32 bits: `narrow` accepted the pattern.
+        let groups = groups.into_iter().map(|j| j as u32).collect();
         Ok(Self { pattern, groups })
     }
 
@@ -60,4 +51,9 @@ impl SymmetricProduct {
             }
         }
     }
+}
+
+/// The dot product aᵀb.
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }

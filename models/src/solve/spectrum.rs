@@ -5,6 +5,7 @@
 
 use nalgebra::{DMatrix, SymmetricEigen};
 
+use super::product::dot;
 use super::structure::Structure;
 use crate::assembly::mul_add;
 
@@ -54,10 +55,6 @@ pub fn max_omega_squared(s: &Structure) -> f64 {
         _ => 0.0,
     });
     SymmetricEigen::new(t).eigenvalues.max()
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 fn normalize(x: &mut [f64]) {
