@@ -14,14 +14,21 @@
 //! No adhesion: a spring pushes (g < 0 at equilibrium) or is released. A node joins the set
 //! when it lies behind a facing flank facet (g < 0) and leaves it when the gap of its spring
 //! at the new equilibrium is no longer negative, i.e. when the spring would pull the flanks
-//! together. The set found is then the same whatever the loading history (a block closed and
-//! then pulled open ends with no springs, as a block pulled open at once).
+//! together. Once the set repeats, the springs are linearized again at the equilibrium,
+//! each against its own facet, and the set settled again, until the linearization no longer
+//! changes ([`FlankContact::linearized_alike`]): the springs are then linearized where they
+//! hold, not where their nodes were caught, and the answer is the same whatever the loading
+//! history (a block closed and then pulled open ends with no springs, as a block pulled open
+//! at once; a cut pulled open and then closed ends as one closed at once, to 1e-9). Where
+//! that does not settle in [`super::topology`]'s bound, or lets a node slide deeper than
+//! the small-sliding limit below (the linear law pressed by 5 N on a half cut's flank), the
+//! answer with the springs linearized where their nodes were caught stays.
 //!
 //! Penalty stiffness k_p = 1000 · E · h (N/mm): a thousand times the axial stiffness of that
 //! cell per unit face area, so the penetration under a contact force F is F / k_p. The gap of
 //! node s against facet m (unit outward normal n, barycentric weights N_i of the projection
 //! of s) is g = n · (x_s − Σ N_i x_i) on the deformed configuration; with n and N_i frozen
-//! per active-set iteration it is linear in u, g = g₀ + Bᵀu, giving the force k_p g B and the
+//! per solve it is linear in u, g = g₀ + Bᵀu, giving the force k_p g B and the
 //! stiffness k_p B Bᵀ (in the linear model the load −k_p g₀ B).
 //!
 //! The pattern includes, once per topology, a potential contact element between each flank
@@ -45,6 +52,13 @@ pub const PENALTY_FACTOR: f64 = 1000.0;
 /// The deepest penetration the scene accepts, per h (5 µm on 5 mm cells: a quarter of the
 /// scanner's noise).
 pub const SLIDING_LIMIT: f64 = 1e-3;
+
+/// Smallest barycentric coordinate of a node's projection that still lies on a facet.
+const EDGE: f64 = -1e-6;
+
+/// How close a spring's linearization must be to the one at the present state (B, and the
+/// gap per h) for the springs to count as linearized where they are.
+const RELINEARIZED: f64 = 1e-7;
 
 /// Tree degradation (see `Bvh::degradation`) beyond which the flank tree is rebuilt.
 pub const REBUILD_DEGRADATION: f64 = 1.5;
@@ -182,7 +196,8 @@ impl FlankContact {
             for (slave_facet, master) in [(o.slave, o.master), (o.master, o.slave)] {
                 for &local in &self.surface.facets[slave_facet] {
                     let node = self.surface.nodes[local];
-                    let Some((g, g0, b)) = gap(nodes, u, node, self.mesh_facet(master)) else {
+                    let Some((g, g0, b)) = gap(nodes, u, node, self.mesh_facet(master), EDGE)
+                    else {
                         continue;
                     };
                     if g >= 0.0 {
@@ -238,6 +253,34 @@ impl FlankContact {
                 .all(|(a, b)| a.node == b.node)
     }
 
+    /// The active springs linearized at displacements `u`, each against its own facet (its
+    /// projection clamped onto it).
+    pub fn relinearized(&self, nodes: &[[f64; 3]], u: &[f64]) -> Vec<Spring> {
+        self.active.iter().map(|s| self.at(s, nodes, u)).collect()
+    }
+
+    /// Spring `s` linearized at displacements `u` against its own facet.
+    fn at(&self, s: &Spring, nodes: &[[f64; 3]], u: &[f64]) -> Spring {
+        let [node, m @ ..] = self.elements[s.element - self.first_element];
+        match gap(nodes, u, node, m, f64::NEG_INFINITY) {
+            Some((_, g0, b)) => Spring { g0, b, ..s.clone() },
+            None => s.clone(),
+        }
+    }
+
+    /// Whether `springs` are the active ones linearized where they are now: the same nodes
+    /// on the same facets, B within [`RELINEARIZED`] and the gaps g₀ + Bᵀu within
+    /// [`RELINEARIZED`] · h.
+    pub fn linearized_alike(&self, springs: &[Spring], u: &[f64]) -> bool {
+        springs.len() == self.active.len()
+            && springs.iter().zip(&self.active).all(|(a, b)| {
+                a.element == b.element
+                    && (a.b - b.b).amax() <= RELINEARIZED
+                    && (self.gap_of(a, u) - self.gap_of(b, u)).abs()
+                        <= RELINEARIZED * self.tolerance
+            })
+    }
+
     /// Adds k_p B Bᵀ of the active springs to `k`.
     pub fn add_stiffness(&self, asm: &Assembler, penalty: f64, k: &mut [f64]) {
         for s in &self.active {
@@ -281,12 +324,15 @@ impl FlankContact {
 }
 
 /// Gap of node `node` against facet `m` (outward normal from the node order) at
-/// displacements `u`: (g, g₀, B), or `None` if the projection misses the facet.
+/// displacements `u`: (g, g₀, B), or `None` if the projection misses the facet (a
+/// barycentric coordinate below `edge`); a projection just off the facet (above `edge`)
+/// is clamped onto it, its barycentric coordinates cut at zero and scaled to sum to one.
 fn gap(
     nodes: &[[f64; 3]],
     u: &[f64],
     node: usize,
     m: [usize; 3],
+    edge: f64,
 ) -> Option<(f64, f64, SVector<f64, 12>)> {
     let x = |n: usize| Vector3::from(nodes[n]) + Vector3::new(u[3 * n], u[3 * n + 1], u[3 * n + 2]);
     let (a, b, c, s) = (x(m[0]), x(m[1]), x(m[2]), x(node));
@@ -298,10 +344,15 @@ fn gap(
     let n = normal / area2;
     let p = s - n * n.dot(&(s - a));
     let w = |q: Vector3<f64>, r: Vector3<f64>| (q - p).cross(&(r - p)).dot(&n) / area2;
-    let weights = [w(b, c), w(c, a), w(a, b)];
-    const EDGE: f64 = -1e-6;
-    if weights.iter().any(|&l| l < EDGE) {
-        return None;
+    let mut weights = [w(b, c), w(c, a), w(a, b)];
+    if weights.iter().any(|&l| l < 0.0) {
+        if weights.iter().any(|&l| l < edge) {
+            return None;
+        }
+        // Clamped onto the facet.
+        weights = weights.map(|l| l.max(0.0));
+        let sum: f64 = weights.iter().sum();
+        weights = weights.map(|l| l / sum);
     }
     let mut bvec = SVector::<f64, 12>::zeros();
     for d in 0..3 {

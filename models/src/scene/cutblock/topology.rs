@@ -11,8 +11,8 @@
 //! [`MAX_INCREMENTS`] load increments of the pull change (a larger count is refused before
 //! any work, naming `max_increment` and the change), each cut back at most 8 times and of at
 //! most 25 Newton iterations ([`Settings`]); with contact, at most [`CONTACT_ITERATIONS`]
-//! solves per contact set and the change split into at most 2 + 4 + [`CONTACT_PARTS`]
-//! parts.
+//! solves per contact set, [`RELINEARIZATIONS`] re-linearizations of its springs, and the
+//! change split into at most 2 + 4 + [`CONTACT_PARTS`] parts.
 
 use serde::{Deserialize, Serialize};
 
@@ -36,6 +36,9 @@ pub const MAX_INCREMENTS: f64 = 1000.0;
 
 /// Largest number of solves per step while the contact set changes.
 const CONTACT_ITERATIONS: usize = 25;
+
+/// Largest number of times one settle re-linearizes the springs ([`Topology::relinearize`]).
+const RELINEARIZATIONS: usize = 50;
 
 /// The most equal parts a load change is split into when its flanks end through each other.
 const CONTACT_PARTS: usize = 8;
@@ -569,7 +572,8 @@ impl Topology {
     /// Solves for the pull (mm) and the press force (N) at the scalpel position. With flank
     /// contact: solve, search the flanks, and while the set of held nodes changes, solve
     /// again with the new springs (at most `CONTACT_ITERATIONS` times; a set that comes
-    /// back is a cycle and an error). A load change that leaves the flanks through each
+    /// back is a cycle and an error), then linearize the springs again where they hold
+    /// ([`Self::settle`]). A load change that leaves the flanks through each
     /// other (beyond the contact's small-sliding range) is retried from the last
     /// equilibrium in 2, 4, … up to `CONTACT_PARTS` equal parts, the springs updated after
     /// each. On error the last equilibrium stays.
@@ -659,6 +663,10 @@ impl Topology {
         }
     }
 
+    /// Equilibrium under (pull, press) with the contact set settled ([`Self::settle_set`])
+    /// and its springs linearized where they hold ([`Self::relinearize`]); where that does
+    /// not converge, the settled set's answer with the springs linearized where their nodes
+    /// were caught stays. A node left deeper than the small-sliding limit is an error.
     fn settle(
         &mut self,
         g: &Geometry,
@@ -667,24 +675,55 @@ impl Topology {
         scalpel_x: f64,
     ) -> Result<(), SceneError> {
         self.set_loads(g, pull, press, scalpel_x);
+        self.settle_set()?;
+        self.load = (pull, press);
+        let Some(c) = &self.contact else {
+            return Ok(());
+        };
+        if !c.active.is_empty() {
+            let settled = (self.u.clone(), self.internal.clone(), c.held());
+            if self.relinearize().is_err() {
+                let (u, internal, held) = settled;
+                self.u = u;
+                self.internal = internal;
+                if let Some(c) = &mut self.contact {
+                    c.hold(&held);
+                }
+                self.restart(g, (pull, press), scalpel_x)?;
+            }
+        }
+        self.within_sliding()
+    }
+
+    /// A node left behind a flank facet deeper than the small-sliding limit is an error.
+    fn within_sliding(&self) -> Result<(), SceneError> {
+        let Some(c) = &self.contact else {
+            return Ok(());
+        };
+        let limit = SLIDING_LIMIT * self.layer;
+        match c.deepest {
+            Some(node) if c.penetration > limit => Err(SceneError::Slid {
+                node,
+                depth: c.penetration,
+                limit,
+            }),
+            _ => Ok(()),
+        }
+    }
+
+    /// Solves, searches the flanks and re-solves with the springs found until the set of
+    /// held nodes repeats (at most `CONTACT_ITERATIONS` sets; a set that comes back is a
+    /// cycle and an error).
+    fn settle_set(&mut self) -> Result<(), SceneError> {
         let mut seen: Vec<Vec<usize>> = Vec::new();
-        for _ in 0..CONTACT_ITERATIONS {
+        loop {
             self.equilibrium()?;
-            self.load = (pull, press);
             let Some(c) = &mut self.contact else {
                 return Ok(());
             };
             let springs = c.detect(self.solid.nodes(), &self.u);
             if c.same_as_active(&springs) {
-                let limit = SLIDING_LIMIT * self.layer;
-                return match c.deepest {
-                    Some(node) if c.penetration > limit => Err(SceneError::Slid {
-                        node,
-                        depth: c.penetration,
-                        limit,
-                    }),
-                    _ => Ok(()),
-                };
+                return Ok(());
             }
             let held: Vec<usize> = springs.iter().map(|s| s.node).collect();
             if seen.contains(&held) {
@@ -693,13 +732,38 @@ impl Topology {
                     iterations: seen.len(),
                 });
             }
+            if seen.len() == CONTACT_ITERATIONS {
+                return Err(SceneError::NotConverged {
+                    what: "the flank contact's active set",
+                    iterations: CONTACT_ITERATIONS,
+                });
+            }
             seen.push(held);
             c.active = springs;
             self.factorize()?;
         }
+    }
+
+    /// Linearizes the held springs again at the present state and settles the set anew,
+    /// until the springs are linearized where they hold ([`FlankContact::linearized_alike`]):
+    /// the answer is then the same whatever state the springs were first linearized at (at
+    /// most `RELINEARIZATIONS` times).
+    fn relinearize(&mut self) -> Result<(), SceneError> {
+        for _ in 0..RELINEARIZATIONS {
+            let Some(c) = &mut self.contact else {
+                return Ok(());
+            };
+            let springs = c.relinearized(self.solid.nodes(), &self.u);
+            if c.linearized_alike(&springs, &self.u) {
+                return self.within_sliding();
+            }
+            c.active = springs;
+            self.factorize()?;
+            self.settle_set()?;
+        }
         Err(SceneError::NotConverged {
-            what: "the flank contact's active set",
-            iterations: CONTACT_ITERATIONS,
+            what: "the flank springs' linearization",
+            iterations: RELINEARIZATIONS,
         })
     }
 
