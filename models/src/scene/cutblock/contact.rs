@@ -58,7 +58,7 @@ const EDGE: f64 = -1e-6;
 
 /// How close a spring's linearization must be to the one at the present state (B, and the
 /// gap per h) for the springs to count as linearized where they are.
-const RELINEARIZED: f64 = 1e-7;
+const RELINEARIZED: f64 = 1e-6;
 
 /// Tree degradation (see `Bvh::degradation`) beyond which the flank tree is rebuilt.
 pub const REBUILD_DEGRADATION: f64 = 1.5;
