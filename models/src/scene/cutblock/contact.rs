@@ -21,15 +21,15 @@
 //! history (a block closed and then pulled open ends with no springs, as a block pulled open
 //! at once; a cut pulled open and then closed ends as one closed at once, to 1e-9). Where
 //! that does not settle in [`super::topology`]'s bound, or lets a node slide deeper than
-//! the small-sliding limit below (the linear law pressed by 5 N on a half cut's flank), the
-//! answer with the springs linearized where their nodes were caught stays.
+//! the small-sliding limit below, the answer with the springs linearized where their nodes
+//! were caught stays (silently).
 //!
 //! Penalty stiffness k_p = 1000 · E · h (N/mm): a thousand times the axial stiffness of that
 //! cell per unit face area, so the penetration under a contact force F is F / k_p. The gap of
 //! node s against facet m (unit outward normal n, barycentric weights N_i of the projection
 //! of s) is g = n · (x_s − Σ N_i x_i) on the deformed configuration; with n and N_i frozen
-//! per solve it is linear in u, g = g₀ + Bᵀu, giving the force k_p g B and the
-//! stiffness k_p B Bᵀ (in the linear model the load −k_p g₀ B).
+//! per search or re-linearization it is linear in u, g = g₀ + Bᵀu, giving the force
+//! k_p g B and the stiffness k_p B Bᵀ (in the linear model the load −k_p g₀ B).
 //!
 //! The pattern includes, once per topology, a potential contact element between each flank
 //! node and each facet of the opposite flank around its twin (small sliding), so activating
@@ -253,29 +253,27 @@ impl FlankContact {
                 .all(|(a, b)| a.node == b.node)
     }
 
-    /// The active springs linearized at displacements `u`, each against its own facet (its
-    /// projection clamped onto it).
-    pub fn relinearized(&self, nodes: &[[f64; 3]], u: &[f64]) -> Vec<Spring> {
-        self.active.iter().map(|s| self.at(s, nodes, u)).collect()
+    /// The active springs linearized at displacements `u`, each against the facet it was
+    /// caught on (its projection clamped onto it, however far off); `None` if a facet has
+    /// degenerated to zero area.
+    pub fn relinearized(&self, nodes: &[[f64; 3]], u: &[f64]) -> Option<Vec<Spring>> {
+        self.active
+            .iter()
+            .map(|s| {
+                let [node, m @ ..] = self.elements[s.element - self.first_element];
+                let (_, g0, b) = gap(nodes, u, node, m, f64::NEG_INFINITY)?;
+                Some(Spring { g0, b, ..s.clone() })
+            })
+            .collect()
     }
 
-    /// Spring `s` linearized at displacements `u` against its own facet.
-    fn at(&self, s: &Spring, nodes: &[[f64; 3]], u: &[f64]) -> Spring {
-        let [node, m @ ..] = self.elements[s.element - self.first_element];
-        match gap(nodes, u, node, m, f64::NEG_INFINITY) {
-            Some((_, g0, b)) => Spring { g0, b, ..s.clone() },
-            None => s.clone(),
-        }
-    }
-
-    /// Whether `springs` are the active ones linearized where they are now: the same nodes
-    /// on the same facets, B within [`RELINEARIZED`] and the gaps g₀ + Bᵀu within
-    /// [`RELINEARIZED`] · h.
+    /// Whether `springs` (the active ones linearized again, [`Self::relinearized`]) are
+    /// the active ones within [`RELINEARIZED`] in B and [`RELINEARIZED`] · h in the gaps
+    /// g₀ + Bᵀu.
     pub fn linearized_alike(&self, springs: &[Spring], u: &[f64]) -> bool {
         springs.len() == self.active.len()
             && springs.iter().zip(&self.active).all(|(a, b)| {
-                a.element == b.element
-                    && (a.b - b.b).amax() <= RELINEARIZED
+                (a.b - b.b).amax() <= RELINEARIZED
                     && (self.gap_of(a, u) - self.gap_of(b, u)).abs()
                         <= RELINEARIZED * self.tolerance
             })
@@ -325,8 +323,9 @@ impl FlankContact {
 
 /// Gap of node `node` against facet `m` (outward normal from the node order) at
 /// displacements `u`: (g, g₀, B), or `None` if the projection misses the facet (a
-/// barycentric coordinate below `edge`); a projection just off the facet (above `edge`)
-/// is clamped onto it, its barycentric coordinates cut at zero and scaled to sum to one.
+/// barycentric coordinate below `edge`, or a facet of zero area); a projection off the
+/// facet by less (any, for `edge` = −∞) is clamped onto it, its barycentric coordinates
+/// cut at zero and scaled to sum to one.
 fn gap(
     nodes: &[[f64; 3]],
     u: &[f64],

@@ -11,8 +11,9 @@
 //! [`MAX_INCREMENTS`] load increments of the pull change (a larger count is refused before
 //! any work, naming `max_increment` and the change), each cut back at most 8 times and of at
 //! most 25 Newton iterations ([`Settings`]); with contact, at most [`CONTACT_ITERATIONS`]
-//! solves per contact set, [`RELINEARIZATIONS`] re-linearizations of its springs, and the
-//! change split into at most 2 + 4 + [`CONTACT_PARTS`] parts.
+//! solves until the contact set repeats and [`RELINEARIZATION_SOLVES`] more while its
+//! springs are linearized again (75 per settle), and the change split into at most 2 + 4 +
+//! [`CONTACT_PARTS`] parts (15 settles).
 
 use serde::{Deserialize, Serialize};
 
@@ -34,11 +35,12 @@ use crate::solve::{Factorization, Statics};
 /// The most Newton load increments one step may take.
 pub const MAX_INCREMENTS: f64 = 1000.0;
 
-/// Largest number of solves per step while the contact set changes.
+/// Largest number of solves of one settle while the contact set changes.
 const CONTACT_ITERATIONS: usize = 25;
 
-/// Largest number of times one settle re-linearizes the springs ([`Topology::relinearize`]).
-const RELINEARIZATIONS: usize = 50;
+/// Largest number of solves one settle spends re-linearizing its springs
+/// ([`Topology::relinearize`]).
+const RELINEARIZATION_SOLVES: usize = 50;
 
 /// The most equal parts a load change is split into when its flanks end through each other.
 const CONTACT_PARTS: usize = 8;
@@ -571,10 +573,11 @@ impl Topology {
 
     /// Solves for the pull (mm) and the press force (N) at the scalpel position. With flank
     /// contact: solve, search the flanks, and while the set of held nodes changes, solve
-    /// again with the new springs (at most `CONTACT_ITERATIONS` times; a set that comes
+    /// again with the new springs (at most `CONTACT_ITERATIONS` solves; a set that comes
     /// back is a cycle and an error), then linearize the springs again where they hold
-    /// ([`Self::settle`]). A load change that leaves the flanks through each
-    /// other (beyond the contact's small-sliding range) is retried from the last
+    /// ([`Self::settle`]; where that fails, the set's first answer stays). A load change
+    /// that leaves the flanks through each other (beyond the contact's small-sliding range)
+    /// is retried from the last
     /// equilibrium in 2, 4, … up to `CONTACT_PARTS` equal parts, the springs updated after
     /// each. On error the last equilibrium stays.
     pub fn solve(
@@ -675,7 +678,8 @@ impl Topology {
         scalpel_x: f64,
     ) -> Result<(), SceneError> {
         self.set_loads(g, pull, press, scalpel_x);
-        self.settle_set()?;
+        let mut solves = CONTACT_ITERATIONS;
+        self.settle_set(&mut solves)?;
         self.load = (pull, press);
         let Some(c) = &self.contact else {
             return Ok(());
@@ -712,11 +716,18 @@ impl Topology {
     }
 
     /// Solves, searches the flanks and re-solves with the springs found until the set of
-    /// held nodes repeats (at most `CONTACT_ITERATIONS` sets; a set that comes back is a
-    /// cycle and an error).
-    fn settle_set(&mut self) -> Result<(), SceneError> {
+    /// held nodes repeats, at most `solves` solves (counted down; a set that comes back is
+    /// a cycle and an error).
+    fn settle_set(&mut self, solves: &mut usize) -> Result<(), SceneError> {
         let mut seen: Vec<Vec<usize>> = Vec::new();
         loop {
+            if *solves == 0 {
+                return Err(SceneError::NotConverged {
+                    what: "the flank contact's active set",
+                    iterations: seen.len(),
+                });
+            }
+            *solves -= 1;
             self.equilibrium()?;
             let Some(c) = &mut self.contact else {
                 return Ok(());
@@ -732,12 +743,6 @@ impl Topology {
                     iterations: seen.len(),
                 });
             }
-            if seen.len() == CONTACT_ITERATIONS {
-                return Err(SceneError::NotConverged {
-                    what: "the flank contact's active set",
-                    iterations: CONTACT_ITERATIONS,
-                });
-            }
             seen.push(held);
             c.active = springs;
             self.factorize()?;
@@ -746,25 +751,32 @@ impl Topology {
 
     /// Linearizes the held springs again at the present state and settles the set anew,
     /// until the springs are linearized where they hold ([`FlankContact::linearized_alike`]):
-    /// the answer is then the same whatever state the springs were first linearized at (at
-    /// most `RELINEARIZATIONS` times).
+    /// the answer is then the same whatever state the springs were first linearized at.
+    /// At most [`RELINEARIZATION_SOLVES`] solves in all; a spring on a degenerate facet, or
+    /// a node left deeper than the small-sliding limit, is an error too.
     fn relinearize(&mut self) -> Result<(), SceneError> {
-        for _ in 0..RELINEARIZATIONS {
+        let mut solves = RELINEARIZATION_SOLVES;
+        loop {
             let Some(c) = &mut self.contact else {
                 return Ok(());
             };
-            let springs = c.relinearized(self.solid.nodes(), &self.u);
+            let springs =
+                c.relinearized(self.solid.nodes(), &self.u)
+                    .ok_or(SceneError::NotConverged {
+                        what: "the flank springs' linearization (a degenerate facet)",
+                        iterations: 0,
+                    })?;
             if c.linearized_alike(&springs, &self.u) {
                 return self.within_sliding();
             }
             c.active = springs;
             self.factorize()?;
-            self.settle_set()?;
+            self.settle_set(&mut solves)
+                .map_err(|_| SceneError::NotConverged {
+                    what: "the flank springs' linearization",
+                    iterations: RELINEARIZATION_SOLVES,
+                })?;
         }
-        Err(SceneError::NotConverged {
-            what: "the flank springs' linearization",
-            iterations: RELINEARIZATIONS,
-        })
     }
 
     /// The equilibrium for the prescribed values and `f` with the current springs.
