@@ -113,6 +113,9 @@ pub struct Topology {
     loads: Vec<f64>,
     /// Factorizations, Newton increments and iterations since this topology was built.
     pub work: Work,
+    /// Whether a solve since the scene last looked kept the springs linearized where their
+    /// nodes were caught ([`Self::settle`]'s fallback).
+    pub fell_back: bool,
 }
 
 /// What a later solve of a topology depends on besides what its build makes (see
@@ -390,6 +393,7 @@ impl Topology {
                 analyses: analysed,
                 ..Work::default()
             },
+            fell_back: false,
         };
         t.assemble_linear()?;
         Ok(t)
@@ -687,6 +691,7 @@ impl Topology {
         if !c.active.is_empty() {
             let settled = (self.u.clone(), self.internal.clone(), c.held());
             if self.relinearize().is_err() {
+                self.fell_back = true;
                 let (u, internal, held) = settled;
                 self.u = u;
                 self.internal = internal;
