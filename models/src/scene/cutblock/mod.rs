@@ -65,7 +65,8 @@ pub struct CutBlock {
     topology: Option<Topology>,
     outputs: Option<Outputs>,
     work: Work,
-    /// Warnings not yet taken, and whether the strain warning was given in this run.
+    /// Warnings not yet taken, and whether the strain and the contact warnings were given
+    /// in this run.
     warnings: Vec<String>,
     warned_strain: bool,
     warned_contact: bool,

@@ -638,6 +638,8 @@ impl Topology {
         if let (Some(c), Some(held)) = (&mut self.contact, held) {
             c.hold(held);
         }
+        // What the undone settles fell back to is not the answer.
+        self.fell_back = false;
         self.restart(g, load, scalpel_x)
     }
 
