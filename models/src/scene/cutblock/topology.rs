@@ -105,10 +105,12 @@ pub struct Topology {
     pub internal: Vec<f64>,
     /// The prescribed displacements of the pulled face and the press force of `u`.
     load: (f64, f64),
-    /// Scratch: `u` and `internal` at the start of a step (restored on failure), the
-    /// prescribed values (all dofs), and the linear law's loads with the springs' share.
-    saved_u: Vec<f64>,
-    saved_internal: Vec<f64>,
+    /// Scratch: the equilibrium at the start of a solve (restored on failure) and after a
+    /// settle's first settled contact set (restored when its springs cannot be linearized
+    /// again), the prescribed values (all dofs), and the linear law's loads with the
+    /// springs' share.
+    saved: Snapshot,
+    settled: Snapshot,
     prescribed: Vec<f64>,
     loads: Vec<f64>,
     /// Factorizations, Newton increments and iterations since this topology was built.
@@ -116,6 +118,36 @@ pub struct Topology {
     /// Whether a solve since the scene last looked kept the springs linearized where their
     /// nodes were caught ([`Self::settle`]'s fallback).
     pub fell_back: bool,
+}
+
+/// A copy of an equilibrium to go back to (its buffers made once, with the topology).
+#[derive(Debug)]
+struct Snapshot {
+    u: Vec<f64>,
+    internal: Vec<f64>,
+}
+
+impl Snapshot {
+    fn new(n_dofs: usize) -> Self {
+        Self {
+            u: vec![0.0; n_dofs],
+            internal: vec![0.0; n_dofs],
+        }
+    }
+
+    fn save(&mut self, u: &[f64], internal: &[f64]) {
+        self.u.copy_from_slice(u);
+        self.internal.copy_from_slice(internal);
+    }
+}
+
+/// Which copy [`Topology::back`] restores.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Saved {
+    /// The start of the solve: the solve is undone.
+    Solve,
+    /// A settle's first settled set: its re-linearization is given up (the fallback).
+    Settled,
 }
 
 /// What a later solve of a topology depends on besides what its build makes (see
@@ -385,8 +417,8 @@ impl Topology {
             f: vec![0.0; n_dofs],
             internal: vec![0.0; n_dofs],
             load: (0.0, 0.0),
-            saved_u: vec![0.0; n_dofs],
-            saved_internal: vec![0.0; n_dofs],
+            saved: Snapshot::new(n_dofs),
+            settled: Snapshot::new(n_dofs),
             prescribed: vec![0.0; n_dofs],
             loads: vec![0.0; n_dofs],
             work: Work {
@@ -604,13 +636,12 @@ impl Topology {
                 });
             }
         }
-        self.saved_u.copy_from_slice(&self.u);
-        self.saved_internal.copy_from_slice(&self.internal);
+        self.saved.save(&self.u, &self.internal);
         let (load, held) = (self.load, self.contact.as_ref().map(FlankContact::held));
         let mut result = self.settle(g, pull, press, scalpel_x);
         let mut parts = 2;
         while matches!(result, Err(SceneError::Slid { .. })) && parts <= CONTACT_PARTS {
-            self.back(g, load, &held, scalpel_x)?;
+            self.back(Saved::Solve, g, load, &held, scalpel_x)?;
             result = (1..=parts).try_for_each(|k| {
                 let s = k as f64 / parts as f64;
                 let at = |from: f64, to: f64| from + s * (to - from);
@@ -619,27 +650,32 @@ impl Topology {
             parts *= 2;
         }
         if result.is_err() {
-            self.back(g, load, &held, scalpel_x)?;
+            self.back(Saved::Solve, g, load, &held, scalpel_x)?;
         }
         result
     }
 
-    /// Back to the state saved at the start of [`Self::solve`]: displacements, internal
-    /// forces, contact, loads and the solver.
+    /// Back to a saved equilibrium with its springs `held` under `load`: displacements,
+    /// internal forces, contact, loads and the solver. Undoing a solve also undoes what its
+    /// settles fell back to; going back to a settled set is the fallback.
     fn back(
         &mut self,
+        saved: Saved,
         g: &Geometry,
         load: (f64, f64),
         held: &Option<Held>,
         scalpel_x: f64,
     ) -> Result<(), SceneError> {
-        self.u.copy_from_slice(&self.saved_u);
-        self.internal.copy_from_slice(&self.saved_internal);
+        let from = match saved {
+            Saved::Solve => &self.saved,
+            Saved::Settled => &self.settled,
+        };
+        self.u.copy_from_slice(&from.u);
+        self.internal.copy_from_slice(&from.internal);
         if let (Some(c), Some(held)) = (&mut self.contact, held) {
             c.hold(held);
         }
-        // What the undone settles fell back to is not the answer.
-        self.fell_back = false;
+        self.fell_back = saved == Saved::Settled;
         self.restart(g, load, scalpel_x)
     }
 
@@ -691,16 +727,10 @@ impl Topology {
             return Ok(());
         };
         if !c.active.is_empty() {
-            let settled = (self.u.clone(), self.internal.clone(), c.held());
+            let held = Some(c.held());
+            self.settled.save(&self.u, &self.internal);
             if self.relinearize().is_err() {
-                self.fell_back = true;
-                let (u, internal, held) = settled;
-                self.u = u;
-                self.internal = internal;
-                if let Some(c) = &mut self.contact {
-                    c.hold(&held);
-                }
-                self.restart(g, (pull, press), scalpel_x)?;
+                self.back(Saved::Settled, g, (pull, press), &held, scalpel_x)?;
             }
         }
         self.within_sliding()
