@@ -6,6 +6,12 @@
 //! per pattern; numeric refactorization and solves reuse it and the preallocated workspace,
 //! so a solve allocates nothing.
 //!
+//! [`Factorization::SupernodalSingle`] keeps the numeric factor in single precision (f32):
+//! half the memory traffic of the factorization and the solves, for a factor that only
+//! preconditions an iteration on a double-precision residual (Newton's: its corrections need
+//! not be exact, [`super::newton`]). A single-precision factorization whose pivots fail the
+//! check below is made again in double precision, which then decides.
+//!
 //! A singular or nearly singular matrix (a floating body, a missing support, a mechanism)
 //! is reported as [`ModelError::Singular`]: faer refuses non-positive pivots, and we also
 //! refuse pivots that fell below [`PIVOT_RATIO_TOL`] times their diagonal entry, which is
@@ -34,6 +40,14 @@ use crate::error::ModelError;
 /// diagonal; a physical stiffness contrast of 1e6 gives ratios near 1e-6.
 pub const PIVOT_RATIO_TOL: f64 = 1e-10;
 
+/// Smallest ratio L_jj² / A_jj a single-precision factor is trusted with; below it the
+/// factorization is made again in double precision, whose check ([`PIVOT_RATIO_TOL`])
+/// decides. A zero pivot computed in f32 is left at round-off: ε = 6e-8 times the updates
+/// summed into it (measured 2026-11-27: a floating chain of 40 springs leaves 1.9e-6, which
+/// passes the double-precision check; the default tet10 cut block's tangents at a 10 mm pull
+/// have no ratio below 9e-3).
+const SINGLE_PIVOT_RATIO_TOL: f64 = 1e-4;
+
 /// Factors with more stored values than this are factorized on all of rayon's threads
 /// (the dense supernode updates parallelize; smaller factors would only pay the overhead).
 const PARALLEL_VALUES: usize = 1 << 20;
@@ -46,6 +60,10 @@ pub enum Factorization {
     #[default]
     Simplicial,
     Supernodal,
+    /// Supernodal, the numeric factor in single precision where its pivots pass the check
+    /// (solves then carry errors of order 1e-7 relative times the conditioning): for the
+    /// factors Newton's iterations reuse.
+    SupernodalSingle,
 }
 
 /// 2D systems of more equations than this are factorized supernodally even where one factor
@@ -81,6 +99,17 @@ pub struct Cholesky {
     sweeps: Sweeps,
     mem: MemBuffer,
     factorized: bool,
+    /// The single-precision factor and its scratch ([`Factorization::SupernodalSingle`]).
+    single: Option<Single>,
+    /// Whether the present factorization is the single-precision one.
+    in_single: bool,
+}
+
+/// A single-precision factor, the matrix's values and a right-hand side in f32.
+struct Single {
+    l: Vec<f32>,
+    a: Vec<f32>,
+    x: Vec<f32>,
 }
 
 /// What the symbolic analysis of one pattern gives: shared by every factorization of a
@@ -94,13 +123,15 @@ struct Analysis {
     perm_fwd: Vec<usize>,
     /// Parallelism of the numeric factorization (see [`PARALLEL_VALUES`]).
     par: Par,
+    /// Whether the factorizations try single precision first.
+    single: bool,
 }
 
 impl std::fmt::Debug for Cholesky {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Cholesky")
             .field("n", &self.analysis.symbolic.nrows())
-            .field("l_nnz", &self.l_values.len())
+            .field("l_nnz", &self.factor_nnz())
             .finish()
     }
 }
@@ -116,7 +147,9 @@ impl Cholesky {
         let narrow = narrow(pattern)?;
         let threshold = match factorization {
             Factorization::Simplicial => SupernodalThreshold::FORCE_SIMPLICIAL,
-            Factorization::Supernodal => SupernodalThreshold::FORCE_SUPERNODAL,
+            Factorization::Supernodal | Factorization::SupernodalSingle => {
+                SupernodalThreshold::FORCE_SUPERNODAL
+            }
         };
         let params = CholeskySymbolicParams {
             supernodal_flop_ratio_threshold: threshold,
@@ -125,7 +158,7 @@ impl Cholesky {
         let (fwd, inv);
         let ordering = match factorization {
             Factorization::Simplicial => SymmetricOrdering::Amd,
-            Factorization::Supernodal => {
+            Factorization::Supernodal | Factorization::SupernodalSingle => {
                 let nd = ordering::nested_dissection(pattern)?;
                 let mut i = vec![0; nd.len()];
                 for (k, &p) in nd.iter().enumerate() {
@@ -152,6 +185,7 @@ impl Cholesky {
             pattern: narrow,
             perm_fwd,
             par,
+            single: factorization == Factorization::SupernodalSingle,
         }))
     }
 
@@ -161,8 +195,48 @@ impl Cholesky {
         Self::numeric(Arc::clone(&self.analysis))
     }
 
-    /// The factor's storage and workspace for an analysis, claimed against the budget.
+    /// The factor's storage and workspace for an analysis, claimed against the budget (with
+    /// single precision, the f32 factor and copies; the f64 factor's storage only when a
+    /// factorization first falls back to it).
     fn numeric(analysis: Arc<Analysis>) -> Result<Self, ModelError> {
+        if analysis.single {
+            let symbolic = &analysis.symbolic;
+            let req = StackReq::any_of(&[
+                symbolic.factorize_numeric_llt_scratch::<f32>(
+                    analysis.par,
+                    Spec::<LltParams, f32>::default(),
+                ),
+                symbolic.solve_in_place_scratch::<f32>(1, Par::Seq),
+                symbolic.factorize_numeric_llt_scratch::<f64>(
+                    analysis.par,
+                    Spec::<LltParams, f64>::default(),
+                ),
+                symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
+            ]);
+            let (values, entries, n) = (
+                symbolic.len_val(),
+                analysis.pattern.row_idx().len(),
+                symbolic.nrows(),
+            );
+            budget::claim(
+                "the single-precision Cholesky factor",
+                budget::bytes_of::<f32>(values + entries + n).saturating_add(req.size_bytes()),
+            )?;
+            return Ok(Self {
+                sweeps: Sweeps::default(),
+                l_values: Vec::new(),
+                permuted: Vec::new(),
+                mem: MemBuffer::new(req),
+                factorized: false,
+                single: Some(Single {
+                    l: vec![0.0; values],
+                    a: vec![0.0; entries],
+                    x: vec![0.0; n],
+                }),
+                in_single: false,
+                analysis,
+            });
+        }
         let symbolic = &analysis.symbolic;
         let req = StackReq::any_of(&[
             symbolic.factorize_numeric_llt_scratch::<f64>(
@@ -194,8 +268,15 @@ impl Cholesky {
             permuted: vec![0.0; symbolic.nrows()],
             mem: MemBuffer::new(req),
             factorized: false,
+            single: None,
+            in_single: false,
             analysis,
         })
+    }
+
+    /// Whether the present factorization is in single precision.
+    pub fn in_single(&self) -> bool {
+        self.factorized && self.in_single
     }
 
     /// Number of equations.
@@ -205,11 +286,13 @@ impl Cholesky {
 
     /// Number of stored values of the factor L.
     pub fn factor_nnz(&self) -> usize {
-        self.l_values.len()
+        self.analysis.symbolic.len_val()
     }
 
-    /// Numeric factorization of `a` (same pattern as analysed). On error the previous
-    /// factorization is invalidated, so a later solve cannot silently use stale values.
+    /// Numeric factorization of `a` (same pattern as analysed): in single precision first
+    /// where the analysis asks for it ([`Factorization::SupernodalSingle`]) and its pivots
+    /// pass, else in double. On error the previous factorization is invalidated, so a later
+    /// solve cannot silently use stale values.
     pub fn factorize(&mut self, a: SparseColMatRef<'_, usize, f64>) -> Result<(), ModelError> {
         self.factorized = false;
         assert_eq!(
@@ -217,6 +300,58 @@ impl Cholesky {
             self.analysis.pattern.row_idx().len(),
             "Cholesky::factorize with a matrix of another pattern than the analysed one"
         );
+        self.in_single = self.single.is_some() && self.factorize_single(a);
+        if self.in_single {
+            self.factorized = true;
+            return Ok(());
+        }
+        self.factorize_double(a)
+    }
+
+    /// Numeric factorization of `a` in double precision, whatever the analysis asks for.
+    pub fn factorize_exact(
+        &mut self,
+        a: SparseColMatRef<'_, usize, f64>,
+    ) -> Result<(), ModelError> {
+        self.factorized = false;
+        self.in_single = false;
+        self.factorize_double(a)
+    }
+
+    /// The single-precision factorization of `a`; false where it fails or a pivot fails
+    /// the check.
+    fn factorize_single(&mut self, a: SparseColMatRef<'_, usize, f64>) -> bool {
+        let Some(single) = &mut self.single else {
+            return false;
+        };
+        for (x, &v) in single.a.iter_mut().zip(a.val()) {
+            *x = v as f32;
+        }
+        let result = self.analysis.symbolic.factorize_numeric_llt::<f32>(
+            &mut single.l,
+            SparseColMatRef::new(self.analysis.pattern.as_ref(), &single.a),
+            Side::Lower,
+            LltRegularization::default(),
+            self.analysis.par,
+            MemStack::new(&mut self.mem),
+            Spec::default(),
+        );
+        let factorized = result.is_ok();
+        super::vector_state::clear();
+        factorized && weakest_pivot(&self.analysis, &single.l, a).0 >= SINGLE_PIVOT_RATIO_TOL
+    }
+
+    /// The double-precision factorization of `a` (its storage made on first use when the
+    /// analysis is single-precision).
+    fn factorize_double(&mut self, a: SparseColMatRef<'_, usize, f64>) -> Result<(), ModelError> {
+        if self.l_values.is_empty() {
+            let values = self.analysis.symbolic.len_val();
+            budget::claim(
+                "the Cholesky factor (single precision's fallback)",
+                budget::bytes_of::<f64>(values),
+            )?;
+            self.l_values = vec![0.0; values];
+        }
         let stack = MemStack::new(&mut self.mem);
         let result = self.analysis.symbolic.factorize_numeric_llt(
             &mut self.l_values,
@@ -246,14 +381,7 @@ impl Cholesky {
 
     /// Refuses pivots below `PIVOT_RATIO_TOL` times their diagonal entry.
     fn check_pivots(&self, a: SparseColMatRef<'_, usize, f64>) -> Result<(), ModelError> {
-        let mut worst = (f64::INFINITY, 0);
-        self.for_each_pivot(|j, l_jj| {
-            let eq = self.analysis.perm_fwd[j];
-            let ratio = l_jj * l_jj / diagonal(a, eq);
-            if ratio.is_nan() || ratio < worst.0 {
-                worst = (ratio, eq);
-            }
-        });
+        let worst = weakest_pivot(&self.analysis, &self.l_values, a);
         if worst.0 < PIVOT_RATIO_TOL || worst.0.is_nan() {
             return Err(ModelError::Singular {
                 equation: worst.1,
@@ -262,28 +390,6 @@ impl Cholesky {
             });
         }
         Ok(())
-    }
-
-    /// Calls `f(j, L_jj)` for each pivot in elimination order.
-    fn for_each_pivot(&self, mut f: impl FnMut(usize, f64)) {
-        match self.analysis.symbolic.raw() {
-            SymbolicCholeskyRaw::Simplicial(s) => {
-                // faer stores the diagonal first in each column of L.
-                for (j, &start) in s.col_ptr()[..s.nrows()].iter().enumerate() {
-                    f(j, self.l_values[start as usize]);
-                }
-            }
-            SymbolicCholeskyRaw::Supernodal(s) => {
-                let l = SupernodalLltRef::new(s, &self.l_values);
-                for sn in 0..s.n_supernodes() {
-                    let node = l.supernode(sn);
-                    let val = node.val();
-                    for c in 0..val.ncols() {
-                        f(node.start() + c, val[(c, c)]);
-                    }
-                }
-            }
-        }
     }
 
     /// Solves A x = b in place (`rhs` holds b on entry, x on return). Allocates nothing.
@@ -308,6 +414,23 @@ impl Cholesky {
                     rhs[p] = x;
                 }
             }
+            SymbolicCholeskyRaw::Supernodal(_) if self.in_single => {
+                let single = self.single.as_mut().expect("a single-precision factor");
+                for (x, &b) in single.x.iter_mut().zip(rhs.iter()) {
+                    *x = b as f32;
+                }
+                let n = rhs.len();
+                LltRef::new(&self.analysis.symbolic, &single.l).solve_in_place_with_conj(
+                    Conj::No,
+                    MatMut::from_column_major_slice_mut(&mut single.x, n, 1),
+                    Par::Seq,
+                    MemStack::new(&mut self.mem),
+                );
+                super::vector_state::clear();
+                for (b, &x) in rhs.iter_mut().zip(&single.x) {
+                    *b = x.into();
+                }
+            }
             SymbolicCholeskyRaw::Supernodal(_) => {
                 let n = rhs.len();
                 let stack = MemStack::new(&mut self.mem);
@@ -322,6 +445,43 @@ impl Cholesky {
             }
         }
     }
+}
+
+/// The smallest ratio L_jj² / A_jj of the factor `l` of `a` (NaN first) and its
+/// equation.
+fn weakest_pivot<T: faer::traits::RealField + Copy + Into<f64>>(
+    analysis: &Analysis,
+    l: &[T],
+    a: SparseColMatRef<'_, usize, f64>,
+) -> (f64, usize) {
+    let mut worst = (f64::INFINITY, 0);
+    let mut visit = |j: usize, l_jj: T| {
+        let eq = analysis.perm_fwd[j];
+        let l_jj: f64 = l_jj.into();
+        let ratio = l_jj * l_jj / diagonal(a, eq);
+        if ratio.is_nan() || ratio < worst.0 {
+            worst = (ratio, eq);
+        }
+    };
+    match analysis.symbolic.raw() {
+        SymbolicCholeskyRaw::Simplicial(s) => {
+            // faer stores the diagonal first in each column of L.
+            for (j, &start) in s.col_ptr()[..s.nrows()].iter().enumerate() {
+                visit(j, l[start as usize]);
+            }
+        }
+        SymbolicCholeskyRaw::Supernodal(s) => {
+            let l = SupernodalLltRef::new(s, l);
+            for sn in 0..s.n_supernodes() {
+                let node = l.supernode(sn);
+                let val = node.val();
+                for c in 0..val.ncols() {
+                    visit(node.start() + c, val[(c, c)]);
+                }
+            }
+        }
+    }
+    worst
 }
 
 /// Diagonal entry A_jj of a matrix with sorted row indices.
@@ -400,9 +560,40 @@ mod tests {
         }
     }
 
+    /// The single-precision factor solves to f32's accuracy times the chain's conditioning
+    /// (~4n² = 1e4, so 1e-7 · 1e4 = 1e-3 at worst); the double one it falls back to, or is
+    /// asked for, to f64's.
+    #[test]
+    fn single_precision_solves_to_its_accuracy_and_double_on_request() {
+        let (asm, mut v) = chain(50, 3.0);
+        v[crate::assembly::slot(asm.symbolic(), 0, 0)] += 3.0;
+        let mut chol =
+            Cholesky::analyze(asm.symbolic().as_ref(), Factorization::SupernodalSingle).unwrap();
+        let error = |chol: &mut Cholesky| {
+            let mut x = vec![0.0; 50];
+            x[49] = 1.0;
+            chol.solve_in_place(&mut x);
+            x.iter()
+                .enumerate()
+                .map(|(i, xi)| (xi / ((i + 1) as f64 / 3.0) - 1.0).abs())
+                .fold(0.0, f64::max)
+        };
+        chol.factorize(asm.matrix(&v)).unwrap();
+        assert!(chol.in_single());
+        let single = error(&mut chol);
+        assert!(single < 1e-3 && single > 1e-12, "{single}");
+        chol.factorize_exact(asm.matrix(&v)).unwrap();
+        assert!(!chol.in_single());
+        assert!(error(&mut chol) < 1e-12);
+    }
+
     #[test]
     fn floating_chain_is_singular_in_both_layouts() {
-        for factorization in [Factorization::Simplicial, Factorization::Supernodal] {
+        for factorization in [
+            Factorization::Simplicial,
+            Factorization::Supernodal,
+            Factorization::SupernodalSingle,
+        ] {
             let (asm, v) = chain(40, 7.0);
             let mut chol = Cholesky::analyze(asm.symbolic().as_ref(), factorization).unwrap();
             let err = chol.factorize(asm.matrix(&v)).unwrap_err();

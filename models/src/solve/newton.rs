@@ -22,6 +22,10 @@
 //! 51 mm at a 10 mm pull, 14 iterations on the kept factorization became 9. The symbolic
 //! analysis is made once, in [`Newton::new`].
 //!
+//! With a single-precision factorization ([`Factorization::SupernodalSingle`]) the
+//! corrections are those of an approximate tangent, as on a kept factorization; a fresh one
+//! whose direction gives no descent has the rest of the increment factorized in double.
+//!
 //! An increment has converged when ‖r_f‖ ≤ `residual_tolerance` · (the largest force norm
 //! of the solve: internal forces, reactions included, and external forces) and the last
 //! correction ‖αΔu‖_∞ ≤ `displacement_tolerance` · ‖u‖_∞; or when the line search finds no
@@ -155,6 +159,10 @@ pub struct Checkpoint {
     pub prescribed: Vec<f64>,
     pub external: Vec<f64>,
     pub tangent_at: Option<Vec<f64>>,
+    /// Whether the kept tangent's factor is in single precision
+    /// ([`Factorization::SupernodalSingle`]; absent in states saved before it: double).
+    #[serde(default)]
+    pub single_precision: bool,
 }
 
 /// A Newton–Raphson solver for one pattern and one set of constrained dofs.
@@ -299,6 +307,7 @@ impl Newton {
             prescribed: self.prescribed.clone(),
             external: self.external.clone(),
             tangent_at: self.factorized.then(|| self.factored_at.clone()),
+            single_precision: self.chol.in_single(),
         }
     }
 
@@ -321,10 +330,11 @@ impl Newton {
         self.restart(&checkpoint.prescribed, &checkpoint.external);
         if let Some(x) = &checkpoint.tangent_at {
             self.trial.copy_from_slice(x);
-            self.tangent(eq, 0.0).map_err(|why| match why {
-                Failure::Model(e) => e,
-                _ => ModelError::LinearAlgebra("the kept tangent could not be rebuilt".into()),
-            })?;
+            self.tangent(eq, 0.0, !checkpoint.single_precision)
+                .map_err(|why| match why {
+                    Failure::Model(e) => e,
+                    _ => ModelError::LinearAlgebra("the kept tangent could not be rebuilt".into()),
+                })?;
         }
         Ok(())
     }
@@ -438,10 +448,13 @@ impl Newton {
         }
         // The contraction of the last iteration; infinite forces a refactorization.
         let mut contraction = 0.0;
+        // Whether the next factorizations are made in double precision whatever the
+        // analysis asks for (after a single-precision one gave no descent).
+        let mut exact = false;
         for iteration in 1..=self.settings.max_iterations {
             let fresh = !self.factorized || contraction > self.settings.reuse_contraction;
             if fresh {
-                self.tangent(eq, to)?;
+                self.tangent(eq, to, exact)?;
             }
             self.direction()?;
             let mut accelerated = false;
@@ -472,6 +485,14 @@ impl Newton {
                 }
                 // No descent left at round-off: converged as far as arithmetic allows.
                 Err(Failure::LineSearch) if self.at_round_off(norm) => return Ok(iteration),
+                // A single-precision factor whose direction gave no descent: the rest of
+                // the increment in double precision, from where the search stopped.
+                Err(Failure::LineSearch) if fresh && self.chol.in_single() => {
+                    norm = self.residual(eq, to)?;
+                    exact = true;
+                    contraction = f64::INFINITY;
+                    continue;
+                }
                 Err(e) => return Err(e),
             };
             let size = self
@@ -503,7 +524,7 @@ impl Newton {
             return Ok(());
         }
         if !self.factorized {
-            self.tangent(eq, from)?;
+            self.tangent(eq, from, false)?;
         }
         let start = Instant::now();
         self.change.fill(0.0);
@@ -545,8 +566,9 @@ impl Newton {
         Ok(norm)
     }
 
-    /// Assembles and factorizes the tangent at `trial` for load fraction `s`.
-    fn tangent(&mut self, eq: &mut impl Equations, s: f64) -> Result<(), Failure> {
+    /// Assembles and factorizes the tangent at `trial` for load fraction `s` (in double
+    /// precision if `exact`, else as the analysis asks).
+    fn tangent(&mut self, eq: &mut impl Equations, s: f64, exact: bool) -> Result<(), Failure> {
         self.factorized = false;
         let start = Instant::now();
         eq.at_load_fraction(s);
@@ -555,7 +577,12 @@ impl Newton {
         result.map_err(Failure::Model)?;
         let start = Instant::now();
         self.bc.combine(&[(1.0, &self.k)], &mut self.reduced);
-        let factorized = self.chol.factorize(self.bc.matrix(&self.reduced));
+        let matrix = self.bc.matrix(&self.reduced);
+        let factorized = if exact {
+            self.chol.factorize_exact(matrix)
+        } else {
+            self.chol.factorize(matrix)
+        };
         self.report.factorization += start.elapsed();
         self.report.factorizations += 1;
         self.factorized = factorized.is_ok();

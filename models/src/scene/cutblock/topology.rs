@@ -388,7 +388,7 @@ impl Topology {
                     Solver::Newton(Box::new(Newton::new(
                         &asm,
                         &fixed,
-                        Factorization::Supernodal,
+                        Factorization::SupernodalSingle,
                         settings,
                     )?))
                 } else {
