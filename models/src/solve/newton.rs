@@ -24,7 +24,8 @@
 //!
 //! With a single-precision factorization ([`Factorization::SupernodalSingle`]) the
 //! corrections are those of an approximate tangent, as on a kept factorization; a fresh one
-//! whose direction gives no descent has the rest of the increment factorized in double.
+//! whose direction is not finite or gives no descent has the rest of the increment
+//! factorized in double (and only a double one's failed search counts as round-off).
 //!
 //! An increment has converged when ‖r_f‖ ≤ `residual_tolerance` · (the largest force norm
 //! of the solve: internal forces, reactions included, and external forces) and the last
@@ -307,7 +308,7 @@ impl Newton {
             prescribed: self.prescribed.clone(),
             external: self.external.clone(),
             tangent_at: self.factorized.then(|| self.factored_at.clone()),
-            single_precision: self.chol.in_single(),
+            single_precision: self.factorized && self.chol.in_single(),
         }
     }
 
@@ -456,7 +457,16 @@ impl Newton {
             if fresh {
                 self.tangent(eq, to, exact)?;
             }
-            self.direction()?;
+            if let Err(e) = self.direction() {
+                // A single-precision factor whose correction is not finite: the increment
+                // goes on in double precision.
+                if !(fresh && self.chol.in_single()) {
+                    return Err(e);
+                }
+                exact = true;
+                contraction = f64::INFINITY;
+                continue;
+            }
             let mut accelerated = false;
             let outcome = if fresh {
                 self.line_search(eq, to, norm)
@@ -483,16 +493,17 @@ impl Newton {
                     contraction = f64::INFINITY;
                     continue;
                 }
-                // No descent left at round-off: converged as far as arithmetic allows.
-                Err(Failure::LineSearch) if self.at_round_off(norm) => return Ok(iteration),
                 // A single-precision factor whose direction gave no descent: the rest of
-                // the increment in double precision, from where the search stopped.
-                Err(Failure::LineSearch) if fresh && self.chol.in_single() => {
+                // the increment in double precision, from where the search stopped (round-off
+                // is judged on an exact direction only).
+                Err(Failure::LineSearch) if self.chol.in_single() => {
                     norm = self.residual(eq, to)?;
                     exact = true;
                     contraction = f64::INFINITY;
                     continue;
                 }
+                // No descent left at round-off: converged as far as arithmetic allows.
+                Err(Failure::LineSearch) if self.at_round_off(norm) => return Ok(iteration),
                 Err(e) => return Err(e),
             };
             let size = self
