@@ -115,11 +115,11 @@ fn reference_table(report: &mut Report, reference: &Reference) -> Result<()> {
             " Made from the coarsest three instead (observed orders: reaction {c_reaction}, \
              lift {c_lift}) it differs by {:.2} % (reaction) and {:.2} % (lift; for an \
              output not extrapolated, at least its finest refinement's change): the \
-             reference's error estimate. On the coarser meshes the crack front's error \
-             dominates and the reaction converges at the order of tet10 graded towards an \
-             r^½ front, {REACTION_ORDER}; on the finer ones the ungraded edges of the face \
-             clamped at y = 0, where u ~ r^λ with Williams' λ for a clamped–free right angle, \
-             take over: 2λ = {:.2} at ν = {nu} (docs/theory/cutblock.md).",
+             reference's error estimate. The reaction converges at the order of tet10 \
+             graded towards an r^½ crack front, {REACTION_ORDER}: the y and z layers are also \
+             graded towards the faces, so the edges where the face clamped at y = 0 meets the \
+             free ones (u ~ r^λ, Williams' λ for a clamped–free right angle), which ungraded \
+             would limit it to 2λ = {:.2} at ν = {nu}, do not (docs/theory/cutblock.md).",
             100.0 * s_reaction,
             100.0 * s_lift,
             clamped_edge_order(nu)

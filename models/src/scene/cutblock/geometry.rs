@@ -86,12 +86,15 @@ pub struct Geometry {
 /// uniform plane the target is on. This is how the shipped data sets place their crack
 /// fronts (set C: 10 layers of 1.275 mm below z = 12.75 mm, 4 of 1.0625 mm above).
 ///
-/// On each side the layers are graded towards the target by the power law
-/// d_i = D (i/n)^β (distance from the target of the i-th of n planes of a side of length D):
-/// β = 1 gives uniform layers (the same floats as without grading), β = 2 layers that grow
-/// linearly away from it — the grading that restores a linear element's optimal rate next
-/// to a crack front, where the displacement goes as r^½ (Babuška's graded meshes; see
-/// `docs/theory/cutblock.md`). Without a target inside, uniform layers.
+/// Each side (length D, n layers) is graded towards both its ends, the target and the face:
+/// its i-th plane lies at the fraction g(i/n) of D, g(ξ) = ξ^β / (ξ^β + (1 − ξ)^β), so that
+/// next to either end the planes follow the power law D (i/n)^β. β = 1 gives uniform layers
+/// (the same floats as without grading), β = 2 layers that grow linearly away from either
+/// end — the grading that restores a linear element's optimal rate next to a crack front,
+/// where the displacement goes as r^½ (Babuška's graded meshes), and next to the edges where
+/// the clamped face meets the free ones, where it goes as r^0.64 (Williams' clamped–free
+/// edge at ν = 0.43); see `docs/theory/cutblock.md`. Without a target inside, uniform
+/// layers.
 fn graded(length: f64, cells: usize, target: Option<f64>, beta: f64) -> Vec<f64> {
     let uniform = |from: f64, to: f64, n: usize| {
         (0..=n).map(move |i| from + (to - from) * i as f64 / n as f64)
@@ -118,28 +121,26 @@ fn graded(length: f64, cells: usize, target: Option<f64>, beta: f64) -> Vec<f64>
                 .expect("cells ≥ 2")
         }
     };
-    // The fraction of a side's length at its i-th of n planes counted from the target.
-    let towards = |i: usize, n: usize| {
-        let xi = i as f64 / n as f64;
-        if beta == 1.0 {
-            xi
-        } else {
-            xi.powf(beta)
-        }
+    // The fraction g(i/n) of a side's length at its i-th of n planes, graded towards both
+    // ends.
+    let both_ends = |i: usize, n: usize| {
+        let (a, b) = (
+            (i as f64 / n as f64).powf(beta),
+            ((n - i) as f64 / n as f64).powf(beta),
+        );
+        a / (a + b)
     };
     p = if beta == 1.0 {
         uniform(0.0, t, below).collect()
     } else {
-        (0..=below)
-            .map(|i| t - t * towards(below - i, below))
-            .collect()
+        (0..=below).map(|i| t * both_ends(i, below)).collect()
     };
     let above = cells - below;
     p.extend((1..=above).map(|i| {
         if beta == 1.0 {
             t + (length - t) * i as f64 / above as f64
         } else {
-            t + (length - t) * towards(i, above)
+            t + (length - t) * both_ends(i, above)
         }
     }));
     p[below] = t;
@@ -348,27 +349,34 @@ mod tests {
         assert_eq!(graded(10.0, 4, None, 2.0), [0.0, 2.5, 5.0, 7.5, 10.0]);
     }
 
-    /// β = 2: the layers next to the target are D / n² thick and grow linearly away from
-    /// it on both sides (z of set C: 12.75 mm below in 10 layers, 4.25 mm above in 4).
+    /// β = 2: each side's layers are finest at both its ends and mirror each other about
+    /// its middle (z of set C: 12.75 mm below in 10 layers, 4.25 mm above in 4). The layer at
+    /// either end of a side of n layers is D g(1/n) = D / (1 + (n − 1)²): 12.75 / 82 and
+    /// 4.25 / 10; the middle ones of the 4 are D (g(1/2) − g(1/4)) = 4.25 (1/2 − 1/10).
     #[test]
-    fn power_law_grading_grows_the_layers_away_from_the_target() {
+    fn power_law_grading_makes_each_side_finest_at_both_ends() {
         let p = graded(17.0, 14, Some(12.75), 2.0);
         assert_eq!((p[0], p[10], p[14]), (0.0, 12.75, 17.0));
         let widths: Vec<f64> = p.windows(2).map(|w| w[1] - w[0]).collect();
-        assert!((widths[9] - 12.75 / 100.0).abs() < 1e-12, "{widths:?}");
-        assert!((widths[10] - 4.25 / 16.0).abs() < 1e-12, "{widths:?}");
-        // d_i = D (i/n)²: the widths grow by 2 D / n² per layer away from the target.
-        for k in 0..9 {
-            let step = widths[k] - widths[k + 1];
-            assert!((step - 2.0 * 12.75 / 100.0).abs() < 1e-12, "{widths:?}");
+        for (k, w) in [
+            (0, 12.75 / 82.0),
+            (9, 12.75 / 82.0),
+            (10, 0.425),
+            (13, 0.425),
+        ] {
+            assert!((widths[k] - w).abs() < 1e-12, "{k}: {widths:?}");
         }
-        for k in 10..13 {
-            let step = widths[k + 1] - widths[k];
-            assert!((step - 2.0 * 4.25 / 16.0).abs() < 1e-12, "{widths:?}");
+        for k in [11, 12] {
+            assert!((widths[k] - 4.25 * 0.4).abs() < 1e-12, "{k}: {widths:?}");
         }
-        // A target on a uniform plane is graded too.
+        for k in 0..10 {
+            assert!((widths[k] - widths[9 - k]).abs() < 1e-12, "{widths:?}");
+        }
+        // Growing towards the middle of the side.
+        assert!(widths[..5].windows(2).all(|w| w[1] > w[0]), "{widths:?}");
+        // A target on a uniform plane is graded too: 7 layers of 8.5 mm on each side.
         let p = graded(17.0, 14, Some(8.5), 2.0);
-        assert!((p[1] - p[0] - 8.5 * 13.0 / 49.0).abs() < 1e-12, "{p:?}");
+        assert!((p[1] - 8.5 / 37.0).abs() < 1e-12, "{p:?}");
     }
 
     /// Wherever the front is, a plane lies on it, the cells within the block around it are

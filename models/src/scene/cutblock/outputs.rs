@@ -3,6 +3,7 @@
 use super::geometry::Geometry;
 use super::topology::Topology;
 use super::{PROFILE_LINES, PROFILE_STATIONS, PROFILE_STEP};
+use crate::assembly::solid::Tetrahedron;
 use crate::stress;
 
 /// All outputs of one solved state, in table order.
@@ -66,13 +67,41 @@ fn cut_opening(g: &Geometry, t: &Topology) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Largest u_z of the bottom-surface nodes on the cut plane (mm).
+/// Largest u_z along the bottom surface's line on the cut plane (mm): the maximum of the
+/// element field along it, whose edges it is made of (y_cut and z = 0 are node planes) —
+/// the nodal values for tet4, and for tet10 also the peak of each edge's quadratic through
+/// its corners and midpoint, so that the output does not depend on where the nodes fall.
 fn bottom_lift(g: &Geometry, t: &Topology) -> f64 {
     let p = t.solid.nodes();
-    (0..p.len())
+    let mut line: Vec<(f64, f64)> = (0..p.len())
         .filter(|&n| p[n][2] == 0.0 && p[n][1] == g.y_cut)
-        .map(|n| t.u[3 * n + 2])
-        .fold(f64::NEG_INFINITY, f64::max)
+        .map(|n| (p[n][0], t.u[3 * n + 2]))
+        .collect();
+    let nodal = line
+        .iter()
+        .map(|&(_, uz)| uz)
+        .fold(f64::NEG_INFINITY, f64::max);
+    if t.solid.kind() != Tetrahedron::Tet10 {
+        return nodal;
+    }
+    line.sort_by(|a, b| a.0.total_cmp(&b.0));
+    line.windows(3)
+        .step_by(2)
+        .filter_map(|w| edge_peak(w[0].1, w[1].1, w[2].1))
+        .fold(nodal, f64::max)
+}
+
+/// The interior maximum of the quadratic through `u0`, `um`, `u1` at s = 0, ½, 1, if it has
+/// one: u(s) = u0 (1 − s)(1 − 2s) + 4 um s (1 − s) + u1 s (2s − 1), u'(s*) = 0.
+fn edge_peak(u0: f64, um: f64, u1: f64) -> Option<f64> {
+    let curvature = u0 - 2.0 * um + u1;
+    if curvature >= 0.0 {
+        return None;
+    }
+    let s = (3.0 * u0 - 4.0 * um + u1) / (4.0 * curvature);
+    (s > 0.0 && s < 1.0).then_some(
+        u0 * (1.0 - s) * (1.0 - 2.0 * s) + 4.0 * um * s * (1.0 - s) + u1 * s * (2.0 * s - 1.0),
+    )
 }
 
 /// Largest inward x-displacement of the end faces x = 0 and x = L_x (mm).
@@ -121,4 +150,23 @@ pub fn strain_beyond(t: &Topology, limit: f64) -> Option<f64> {
         .map(|e| e.symmetric_eigenvalues().max())
         .filter(|&largest| largest > limit)
         .reduce(f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::edge_peak;
+
+    /// u(s) = 1 − 4 (s − 0.3)² through s = 0, ½, 1 peaks at 1; a monotone or convex edge
+    /// has no interior peak.
+    #[test]
+    fn an_edge_peaks_where_its_quadratic_does() {
+        let u = |s: f64| 1.0 - 4.0 * (s - 0.3) * (s - 0.3);
+        let peak = edge_peak(u(0.0), u(0.5), u(1.0)).unwrap();
+        assert!((peak - 1.0).abs() < 1e-14, "{peak}");
+        assert_eq!(edge_peak(0.0, 0.5, 1.0), None);
+        assert_eq!(edge_peak(1.0, 0.0, 1.0), None);
+        // Peak beyond the edge (at s = 1.2): none inside.
+        let v = |s: f64| -(s - 1.2) * (s - 1.2);
+        assert_eq!(edge_peak(v(0.0), v(0.5), v(1.0)), None);
+    }
 }
