@@ -163,7 +163,8 @@ fn withdrawing_the_blade_leaves_the_cut_open() {
 /// tip (`mesh_grading` = 2; x planes at the front ± 100 (k/6)² mm) the largest step is 3.04
 /// times the mean (2026-11-27; 2.50 before the layers were graded towards the faces): the
 /// steps to 45 and 70 mm, where the planes 44.4 and 69.4 mm behind the front have just
-/// entered the block at x = 0, leaving a cell of 0.06 mm there; asserted 3.5. (The last half
+/// entered the block at x = 0, leaving a cell of 0.06 mm there (why the new layers make
+/// these steps larger is not established); asserted 3.5. (The last half
 /// millimetre, which cuts the remaining ligament at the far face, is not part of this bound:
 /// docs/theory/cutblock.md.)
 #[test]

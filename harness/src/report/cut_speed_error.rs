@@ -43,8 +43,8 @@ pub fn section(report: &mut Report, depth: Depth) -> Result<()> {
     report.text(
         "Default block (6 × 16 × 14 cubes at ×1), full-width cut, 10 mm pull, E and ν at \
          their defaults; β is `mesh_grading` (1: uniform, 2: layers growing linearly \
-         away from the cut plane and the crack front, x cells away from the tip, here the \
-         far face). Errors: relative for the reaction \
+         away from the cut plane, the crack front and the faces, x cells away from the tip, \
+         here the far face). Errors: relative for the reaction \
          and the bottom lift, largest deviation (mm) of the top surface along x = 50 mm \
          (seed 002's acceptance: 1 mm). Run time: set-up, cut and pull, cases one after \
          another on this machine; the Pareto front uses the larger of the two relative \
@@ -113,7 +113,7 @@ fn reference_table(report: &mut Report, reference: &Reference) -> Result<()> {
         let [c_reaction, c_lift, _] = coarse.map(order);
         text += &format!(
             " Made from the coarsest three instead (observed orders: reaction {c_reaction}, \
-             lift {c_lift}) it differs by {:.2} % (reaction) and {:.2} % (lift; for an \
+             lift {c_lift}) it differs by {:.3} % (reaction) and {:.3} % (lift; for an \
              output not extrapolated, at least its finest refinement's change): the \
              reference's error estimate. The reaction converges at the order of tet10 \
              graded towards an r^½ crack front, {REACTION_ORDER}: the y and z layers are also \

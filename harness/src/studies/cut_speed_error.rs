@@ -711,7 +711,7 @@ mod tests {
         assert!((x.order[1].unwrap() - 2.18).abs() < 0.005, "{x:?}");
         let [reaction, lift] = x.spread.unwrap();
         assert!(
-            (reaction - 0.00004).abs() < 5e-6 && (lift - 0.00043).abs() < 5e-6,
+            (reaction - 0.000041).abs() < 5e-6 && (lift - 0.000435).abs() < 5e-6,
             "{x:?}"
         );
         assert!((x.finest[0] - 0.0013).abs() < 5e-5, "{x:?}");

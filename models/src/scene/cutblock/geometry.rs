@@ -67,7 +67,8 @@ pub struct Geometry {
     /// planes in y (one at y_cut) and z (one at the cut bottom).
     cells_x: usize,
     planes_yz: [Vec<f64>; 2],
-    /// β of the power-law grading towards the cut plane, the cut bottom and the tip.
+    /// β of the grading towards the cut plane, the cut bottom and the faces ([`graded`]),
+    /// and of the x planes towards the tip ([`Self::x_offset`]).
     grading: f64,
     /// Incision plane and the bottom of the incision (z); `None` for depth 0.
     pub y_cut: f64,
@@ -92,7 +93,7 @@ pub struct Geometry {
 /// (the same floats as without grading), β = 2 layers that grow linearly away from either
 /// end — the grading that restores a linear element's optimal rate next to a crack front,
 /// where the displacement goes as r^½ (Babuška's graded meshes), and next to the edges where
-/// the clamped face meets the free ones, where it goes as r^0.64 (Williams' clamped–free
+/// the clamped face meets the free ones, where it goes as r^0.63 (Williams' clamped–free
 /// edge at ν = 0.43); see `docs/theory/cutblock.md`. Without a target inside, uniform
 /// layers.
 fn graded(length: f64, cells: usize, target: Option<f64>, beta: f64) -> Vec<f64> {
@@ -259,9 +260,9 @@ impl Geometry {
     }
 
     /// Distance from the front of its k-th x plane on either side (k ≤ n = `cells_x`):
-    /// k h on the uniform grid (β = 1), L (k/n)^β graded towards the tip — the power law of
-    /// the y and z layers ([`graded`]) over the block's length L, so the cells beside the tip
-    /// are L / n^β wide and grow away from it.
+    /// k h on the uniform grid (β = 1), L (k/n)^β graded towards the tip — one-sided, over
+    /// the block's length L (the y and z layers, [`graded`], are graded towards both ends of
+    /// each side), so the cells beside the tip are L / n^β wide and grow away from it.
     fn x_offset(&self, k: usize) -> f64 {
         if self.grading == 1.0 {
             k as f64 * self.cell_x()
@@ -277,8 +278,8 @@ impl Geometry {
     /// every blade position and the outputs change smoothly with it; the cells at the end
     /// faces grow and shrink, and a cell appears or vanishes there (a cell of width δ → 0
     /// ties its two planes together, which is the mesh without it). With the front at 0 or
-    /// at the far end the planes are the uniform ones (β = 1) or those of [`graded`]
-    /// towards that face.
+    /// at the far end the planes are the uniform ones (β = 1) or graded towards that face
+    /// (L (k/n)^β from it).
     ///
     /// Also returns whether the cubes' split must be mirrored so that the cube just ahead
     /// of the front is split alike at every blade position (and as the uniform block's

@@ -71,6 +71,8 @@ fn cut_opening(g: &Geometry, t: &Topology) -> f64 {
 /// element field along it, whose edges it is made of (y_cut and z = 0 are node planes) —
 /// the nodal values for tet4, and for tet10 also the peak of each edge's quadratic through
 /// its corners and midpoint, so that the output does not depend on where the nodes fall.
+/// Where a cut through the whole height has split the line's nodes (two at one x), the
+/// nodal values.
 fn bottom_lift(g: &Geometry, t: &Topology) -> f64 {
     let p = t.solid.nodes();
     let mut line: Vec<(f64, f64)> = (0..p.len())
@@ -85,6 +87,10 @@ fn bottom_lift(g: &Geometry, t: &Topology) -> f64 {
         return nodal;
     }
     line.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let one_node_per_x = line.windows(2).all(|w| w[0].0 < w[1].0);
+    if !one_node_per_x || line.len().is_multiple_of(2) {
+        return nodal;
+    }
     line.windows(3)
         .step_by(2)
         .filter_map(|w| edge_peak(w[0].1, w[1].1, w[2].1))
