@@ -202,18 +202,7 @@ impl Cholesky {
     fn numeric(analysis: Arc<Analysis>) -> Result<Self, ModelError> {
         if analysis.single {
             let symbolic = &analysis.symbolic;
-            let req = StackReq::any_of(&[
-                symbolic.factorize_numeric_llt_scratch::<f32>(
-                    analysis.par,
-                    Spec::<LltParams, f32>::default(),
-                ),
-                symbolic.solve_in_place_scratch::<f32>(1, Par::Seq),
-                symbolic.factorize_numeric_llt_scratch::<f64>(
-                    analysis.par,
-                    Spec::<LltParams, f64>::default(),
-                ),
-                symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
-            ]);
+            let req = StackReq::any_of(&[scratch::<f32>(&analysis), scratch::<f64>(&analysis)]);
             let (values, entries, n) = (
                 symbolic.len_val(),
                 analysis.pattern.row_idx().len(),
@@ -241,13 +230,7 @@ impl Cholesky {
             });
         }
         let symbolic = &analysis.symbolic;
-        let req = StackReq::any_of(&[
-            symbolic.factorize_numeric_llt_scratch::<f64>(
-                analysis.par,
-                Spec::<LltParams, f64>::default(),
-            ),
-            symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
-        ]);
+        let req = scratch::<f64>(&analysis);
         // The factor, and for the simplicial layout its copy for the sweeps (values, their
         // positions, row indices: at most one of each per stored value).
         let (copies, sweeps) = match symbolic.raw() {
@@ -480,6 +463,15 @@ fn weakest_pivot<T: faer::traits::RealField + Copy + Into<f64>>(
         }
     }
     worst
+}
+
+/// The workspace of a numeric factorization and of a solve in precision `T`.
+fn scratch<T: faer::traits::ComplexField>(analysis: &Analysis) -> StackReq {
+    let symbolic = &analysis.symbolic;
+    StackReq::any_of(&[
+        symbolic.factorize_numeric_llt_scratch::<T>(analysis.par, Spec::<LltParams, T>::default()),
+        symbolic.solve_in_place_scratch::<T>(1, Par::Seq),
+    ])
 }
 
 /// Diagonal entry A_jj of a matrix with sorted row indices.
