@@ -255,15 +255,15 @@ fn hard_cases_edge_cut_zero_pull_and_press_on_the_flank() {
         .filter(|z| z.is_finite())
         .fold(f64::INFINITY, f64::min);
     assert!(lowest < 17.0, "{lowest}");
-    // 5 N folds the flanks past the small-sliding range in one go; split into parts, the
-    // load converges with the flanks apart.
+    // 5 N (at the tip of a 40 mm cut) folds the flanks past the small-sliding range in one
+    // go; split into parts, the load converges with the flanks apart.
     let mut s = scene(&[], &[]);
-    step(&mut s, &[("scalpel_x", 50.0), ("press_force", 5.0)]);
+    step(&mut s, &[("scalpel_x", 40.0), ("press_force", 5.0)]);
     let depth = get(&mut s, "penetration");
     println!("linear, press 5 N on the flank: penetration {depth:e} mm");
     assert!(depth < 5e-3, "{depth}");
-    // Its springs could not be linearized again where they hold (a node slid 0.017 mm
-    // deep): the answer keeps them where they were caught, and says so once.
+    // Its springs could not be linearized again where they hold: the answer keeps them
+    // where they were caught, and says so once.
     let warnings = s.take_warnings();
     assert_eq!(
         warnings
@@ -390,11 +390,11 @@ fn closing_flanks_are_kept_apart_by_contact() {
     // Compression: the reaction is negative; contact makes the block stiffer.
     assert!(fw < fo && fo < 0.0, "{fw} {fo}");
     assert!(points > 0.0);
-    // The penetration left by the penalty (measured 0.00014 mm, as docs/theory/cutblock.md
+    // The penetration left by the penalty (measured 0.00017 mm, as docs/theory/cutblock.md
     // says) is four orders of magnitude below what the flanks overlap without contact
-    // (1.93 mm).
+    // (1.90 mm).
     assert!(pw < 2e-4, "{pw}");
-    assert!((po - 1.93).abs() < 0.01, "{po}");
+    assert!((po - 1.90).abs() < 0.01, "{po}");
 }
 
 #[test]
@@ -575,7 +575,7 @@ fn neo_hookean_hard_cases_converge_or_fail_keeping_the_last_state() {
     assert!(stiff.is_finite() && stiff > soft, "{stiff} vs {soft}");
 
     // Pressing the flank at the tip of a half cut: 2 N and 5 N at once close the cut onto
-    // contact (penetration 0.8 and 1.6 µm, below the small-sliding limit of 5 µm). 20 N at
+    // contact (penetration 1.1 and 2.7 µm, below the small-sliding limit of 5 µm). 20 N at
     // once folds the flanks beyond the contact's small-sliding range: refused, naming
     // press_force, with the unloaded state and its outputs kept.
     for press in [2.0, 5.0] {
@@ -680,12 +680,12 @@ fn nodal_lift(s: &CutBlock) -> f64 {
 
 /// The bottom lift is the maximum of the element field along its line: with tet10 above
 /// every nodal value where the peak falls inside an edge (the graded full cut at a 10 mm
-/// pull, neo-Hookean: measured 3.019270 against 3.018572 mm on 2026-11-27).
+/// pull, neo-Hookean: measured 3.011396 against 3.011086 mm on 2026-11-27).
 #[test]
 fn the_bottom_lift_is_the_fields_maximum_along_its_line() {
     let strings = [("material", "neo-hookean"), ("element", "tet10")];
     let mut s = scene(&[("mesh_grading", 2.0)], &strings);
     step(&mut s, &[("pull", 10.0), ("scalpel_x", 100.0)]);
     let (lift, nodal) = (get(&mut s, "bottom_lift"), nodal_lift(&s));
-    assert!(lift > nodal + 5e-4 && lift < nodal + 1e-3, "{lift} {nodal}");
+    assert!(lift > nodal + 2e-4 && lift < nodal + 5e-4, "{lift} {nodal}");
 }

@@ -1,7 +1,7 @@
 //! The incision follows the blade: it ends where the blade is, at any position, and never
 //! heals; the outputs change continuously as the blade advances.
 
-use models::scene::cutblock::CutBlock;
+use models::scene::cutblock::{CutBlock, SNAP};
 use models::scene::Scene;
 
 /// The cut block with `reals` and `strings` set, initialized.
@@ -29,10 +29,16 @@ fn step(s: &mut CutBlock, inputs: &[(&str, f64)]) {
 
 /// Every output, scalars and profiles, in table order.
 fn outputs(s: &mut CutBlock) -> Vec<f64> {
+    outputs_but(s, &[])
+}
+
+/// Every output but those named in `skip`, in table order.
+fn outputs_but(s: &mut CutBlock, skip: &[&str]) -> Vec<f64> {
     let outputs: Vec<(u32, usize)> = s
         .variables()
         .iter()
         .filter(|v| v.causality == models::scene::Causality::Output)
+        .filter(|v| !skip.contains(&v.name.as_str()))
         .map(|v| (v.vr, v.len))
         .collect();
     outputs
@@ -158,18 +164,15 @@ fn withdrawing_the_blade_leaves_the_cut_open() {
 
 /// The default block at a 10 mm pull with the blade advanced in 0.5 mm steps from 0 to
 /// 99.5 mm: no step changes the reaction by more than 3 times the mean change per step
-/// (issue 27's bound; measured 2.17 times); reaction, opening and bottom lift change
-/// smoothly. With the mesh graded towards the cut plane, the crack front, the faces and the
-/// tip (`mesh_grading` = 2; x planes at the front ± 100 (k/6)² mm) the largest step is 3.04
-/// times the mean (2026-11-27; 2.50 before the layers were graded towards the faces): the
-/// steps to 45 and 70 mm, where the planes 44.4 and 69.4 mm behind the front have just
-/// entered the block at x = 0, leaving a cell of 0.06 mm there (why the new layers make
-/// these steps larger is not established); asserted 3.5. (The last half
-/// millimetre, which cuts the remaining ligament at the far face, is not part of this bound:
-/// docs/theory/cutblock.md.)
+/// (issue 27's bound); measured 1.89 times, asserted 2. With the mesh graded towards the cut
+/// plane, the crack front, the faces and the tip (`mesh_grading` = 2; x planes at the front
+/// ± 100 (k/6)² mm): measured 1.44 times, asserted 1.6 (2026-11-27, cubes split along x;
+/// with the five-tetrahedra split 2.17 and 3.04 times, the largest steps where a thin cell
+/// had just appeared at x = 0). (The last half millimetre, which cuts the remaining
+/// ligament at the far face, is not part of this bound: docs/theory/cutblock.md.)
 #[test]
 fn outputs_change_continuously_with_the_blade() {
-    for (grading, bound) in [(1.0, 3.0), (2.0, 3.5)] {
+    for (grading, bound) in [(1.0, 2.0), (2.0, 1.6)] {
         let mut s = block(&[("pull", 10.0), ("mesh_grading", grading)], &[]);
         let mut reaction = vec![s.get("reaction_force").unwrap()];
         for k in 1..200 {
@@ -192,25 +195,62 @@ fn outputs_change_continuously_with_the_blade() {
     }
 }
 
-/// A blade stopped on a plane of the uniform grid or 1e-6 mm either side gives outputs
-/// within 1e-4 of each other, each relative to its own value (and to 1e-9 mm or N where a
-/// value is near zero).
-#[test]
-fn a_blade_on_a_uniform_plane_and_next_to_it_agree() {
+/// Asserts that the blade at each of `xs` (at a 5 mm pull, default block) gives the outputs
+/// of the blade at `reference`, but those named in `skip`, within `tol`, each relative to
+/// its own value, and within `floor` (mm or N) where a value is near zero.
+fn assert_outputs_agree(reference: f64, xs: &[f64], skip: &[&str], tol: f64, floor: f64) {
     let at = |x: f64| {
         let mut s = block(&[("pull", 5.0)], &[]);
         step(&mut s, &[("scalpel_x", x)]);
-        outputs(&mut s)
+        outputs_but(&mut s, skip)
     };
-    let plane = 100.0 / 3.0;
-    let reference = at(plane);
-    for x in [plane - 1e-6, plane + 1e-6] {
-        for (i, (a, b)) in at(x).iter().zip(&reference).enumerate() {
-            let scale = a.abs().max(b.abs()).max(1e-5);
-            let same = (a.is_nan() && b.is_nan()) || (a - b).abs() <= 1e-4 * scale;
-            assert!(same, "blade {x}, output value {i}: {a} vs {b}");
+    let expected = at(reference);
+    for &x in xs {
+        for (i, (a, b)) in at(x).iter().zip(&expected).enumerate() {
+            let allowed = (tol * a.abs().max(b.abs())).max(floor);
+            let same = (a.is_nan() && b.is_nan()) || (a - b).abs() <= allowed;
+            assert!(
+                same,
+                "blade {x}, output value {i}: {a} vs {b} at {reference}"
+            );
         }
     }
+}
+
+/// A blade stopped on a plane of the uniform grid or 1e-6 mm either side gives outputs
+/// within 1e-4 of each other (and 1e-9 mm or N where a value is near zero).
+#[test]
+fn a_blade_on_a_uniform_plane_and_next_to_it_agree() {
+    let plane = 100.0 / 3.0;
+    assert_outputs_agree(plane, &[plane - 1e-6, plane + 1e-6], &[], 1e-4, 1e-9);
+}
+
+/// Where a cell appears at x = 0 — the plane a cell behind the front crosses [`SNAP`] h
+/// (h = 100/6 mm) into the block — or the incision begins, the outputs do not jump: a blade
+/// 1 % of that width before and after gives outputs within 1e-5 of each other (1e-9 mm or
+/// N near zero), and the incision begun at 1.01 SNAP h (0.17 µm) the outputs of the uncut
+/// block within 1e-5 (1e-6 mm near zero: the opening of that cut), its length apart. The cubes are split along
+/// x so that such thin cells do not lock: with the five-tetrahedra split of seed 002 the
+/// cell appearing behind a front at h + SNAP h made the opening at x = 0 jump by 11 % and
+/// the reaction by 0.1 % (measured 2026-11-27 at a 10 mm pull with SNAP = 1e-3).
+///
+/// `max_von_mises` is left out where the cell appears behind the front: it is a maximum of
+/// nodal averages, and the nodes of the end face then average only the thin cell's
+/// elements, whose stress is the face's rather than the first cell's: it jumps there, by
+/// 13 % at this pull (docs/theory/cutblock.md).
+#[test]
+fn a_cell_appearing_at_the_end_face_changes_no_output() {
+    let h = 100.0 / 6.0;
+    let enters = h + SNAP * h;
+    let eta = 0.01 * SNAP * h;
+    assert_outputs_agree(
+        enters - eta,
+        &[enters + eta],
+        &["max_von_mises"],
+        1e-5,
+        1e-9,
+    );
+    assert_outputs_agree(0.0, &[1.01 * SNAP * h], &["cut_length"], 1e-5, 1e-6);
 }
 
 /// A blade advance under load with a finite-strain law starts Newton from the last

@@ -139,6 +139,31 @@ const EVEN_CUBE: [[usize; 4]; 5] = [
     [6, 2, 4, 7],
 ];
 
+/// Corner offsets (as in [`EVEN_CUBE`]) of the six tetrahedra of a cube split for
+/// [`Split::ExtrudedX`], unmirrored (corner c ↦ c XOR 1 mirrors it in x): its (y, z) square cut along the diagonal from corner 0 (even
+/// `parity`) or from corner 2 (odd), each triangle p < q < r (corners of the x = 0 face,
+/// ordered by their (y, z) grid index, which neighbouring cubes share) extruded to the
+/// x = 1 face (corner + 1) and split into [p q r r'], [p q q' r'], [p p' q' r']. Each
+/// rectangle between two prisms is then cut along the diagonal from the lower-indexed
+/// corner's x = 0 end to the other's x = 1 end in both prisms, so the mesh is conforming.
+fn extruded_cube(parity: usize) -> [[usize; 4]; 6] {
+    // The x = 0 corners in (y, z) grid order: 0 (y0 z0) < 2 (y1 z0) < 4 (y0 z1) < 6 (y1 z1).
+    let triangles = if parity == 0 {
+        [[0, 2, 6], [0, 4, 6]]
+    } else {
+        [[0, 2, 4], [2, 4, 6]]
+    };
+    let prism = |[p, q, r]: [usize; 3]| {
+        [
+            [p, q, r, r + 1],
+            [p, q, q + 1, r + 1],
+            [p, p + 1, q + 1, r + 1],
+        ]
+    };
+    let [a, b] = triangles.map(prism);
+    [a[0], a[1], a[2], b[0], b[1], b[2]]
+}
+
 /// Box [0, lx] × [0, ly] × [0, lz] of nx × ny × nz cubes, 5 tetrahedra per cube, with the
 /// split mirrored in every other cube (seed 002 §3.1): a cube (i, j, k) with i + j + k odd
 /// uses the mirror image (corner c ↦ c XOR 1), so that the face diagonals of neighbouring
@@ -155,17 +180,19 @@ pub fn block(size: [f64; 3], cells: [usize; 3]) -> Result<Mesh3d, ModelError> {
             .map(|i| size[d] * i as f64 / cells[d] as f64)
             .collect()
     });
-    block_on_planes(&planes, false)
+    block_on_planes(&planes, Split::Alternating { mirrored: false })
 }
 
 /// Memory of a block mesh with `n` node planes per axis and of its assembled system,
 /// estimated before anything is allocated: per node its coordinates and about 120 stored
 /// entries of the 3-dof stiffness pattern (measured: 103–112 on the default mesh and two
-/// refinements), each an index and three value copies (element sum, with contact, reduced);
-/// per cube five tetrahedra with 32 bytes and a 12 × 12 scatter map of 8-byte indices each
-/// (the assembler's map is smaller since 2026-11-27, 16 node pairs of 16 bytes: the
-/// estimate errs towards refusing by about 4 kB per cube, and is kept so that the refusals
-/// of the FMUs' tested ranges stay where they were).
+/// refinements with [`Split::Alternating`], 116 with [`Split::ExtrudedX`]), each an index
+/// and three value copies (element sum, with contact, reduced); per cube five tetrahedra
+/// with 32 bytes and a 12 × 12 scatter map of 8-byte indices each (the assembler's map is
+/// smaller since 2026-11-27, 16 node pairs of 16 bytes, so that even the six tetrahedra of
+/// [`Split::ExtrudedX`] take about 4 kB less per cube than estimated: the estimate errs
+/// towards refusing, and is kept so that the refusals of the FMUs' tested ranges stay where
+/// they were).
 fn block_bytes(n: [usize; 3]) -> usize {
     let nodes = n[0].saturating_mul(n[1]).saturating_mul(n[2]);
     let cells = (n[0] - 1).saturating_mul(n[1] - 1).saturating_mul(n[2] - 1);
@@ -176,12 +203,30 @@ fn block_bytes(n: [usize; 3]) -> usize {
         .saturating_add(cells.saturating_mul(per_cell))
 }
 
+/// How the cubes of a block are split into tetrahedra.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Split {
+    /// Five per cube, the split mirrored in every other cube (seed 002 §3.1); cube
+    /// (i, j, k) is mirrored when i + j + k + `mirrored` is odd, so that a caller that adds
+    /// a plane can keep the split of the cubes beyond it.
+    Alternating { mirrored: bool },
+    /// Six per cube: each (y, z) square split into two triangles along alternating
+    /// diagonals, each triangle extruded along x into a prism of three tetrahedra, the
+    /// prisms of every other x layer mirrored in x (layer i mirrored when i + `mirrored` is
+    /// odd, so that a caller can keep a layer's split as the planes move, and a block with
+    /// an even number of layers is mirror-symmetric). Every tetrahedron has an edge along
+    /// x, so a layer thin in x does not lock: as its width δ → 0 its energy bounds only
+    /// the differences across it, which ties its two planes node to node — the mesh
+    /// without it. (The five-tetrahedra split's central tetrahedron joins four corners with
+    /// four different (y, z) positions: flattened, it also forces every square of the
+    /// layer to stay planar, a stiffening that stays as δ → 0.)
+    ExtrudedX { mirrored: bool },
+}
+
 /// Like [`block`], but on arbitrary (strictly increasing) node planes per axis, so that a
 /// caller can place a node plane exactly where it needs one (a cut plane, a cut depth), and
-/// with every cube's split mirrored if `mirrored` (cube (i, j, k) mirrored when
-/// i + j + k + `mirrored` is odd), so that a caller that adds a plane can keep the split of
-/// the cubes beyond it.
-pub fn block_on_planes(planes: &[Vec<f64>; 3], mirrored: bool) -> Result<Mesh3d, ModelError> {
+/// with the cubes split by `split`.
+pub fn block_on_planes(planes: &[Vec<f64>; 3], split: Split) -> Result<Mesh3d, ModelError> {
     for (d, p) in planes.iter().enumerate() {
         if p.len() < 2 || !p.windows(2).all(|w| w[1] > w[0]) {
             return Err(ModelError::InvalidParameter {
@@ -202,23 +247,28 @@ pub fn block_on_planes(planes: &[Vec<f64>; 3], mirrored: bool) -> Result<Mesh3d,
             }
         }
     }
-    let mut tets = Vec::with_capacity(5 * (n[0] - 1) * (n[1] - 1) * (n[2] - 1));
+    let mut tets = Vec::with_capacity(6 * (n[0] - 1) * (n[1] - 1) * (n[2] - 1));
     for k in 0..n[2] - 1 {
         for j in 0..n[1] - 1 {
             for i in 0..n[0] - 1 {
-                let flip = (i + j + k + usize::from(mirrored)) % 2;
-                let corner = |c: usize| {
-                    let c = c ^ flip;
-                    id(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1))
-                };
-                for t in EVEN_CUBE {
-                    let mut tet = t.map(corner);
-                    if tet4::signed_volume(&tet.map(|v| nodes[v])) < 0.0 {
-                        tet.swap(2, 3);
+                let corner = |c: usize| id(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
+                match split {
+                    Split::Alternating { mirrored } => {
+                        let flip = (i + j + k + usize::from(mirrored)) % 2;
+                        tets.extend(EVEN_CUBE.map(|t| t.map(|c| corner(c ^ flip))));
                     }
-                    tets.push(tet);
+                    Split::ExtrudedX { mirrored } => {
+                        let flip = (i + usize::from(mirrored)) % 2;
+                        let cube = extruded_cube((j + k) % 2);
+                        tets.extend(cube.map(|t| t.map(|c| corner(c ^ flip))));
+                    }
                 }
             }
+        }
+    }
+    for tet in &mut tets {
+        if tet4::signed_volume(&tet.map(|v| nodes[v])) < 0.0 {
+            tet.swap(2, 3);
         }
     }
     let mut mesh = Mesh3d::new(nodes, tets)?;
@@ -270,5 +320,59 @@ mod tests {
             })
             .sum();
         assert!((area - 2.0 * (6.0 + 3.0 + 2.0)).abs() < 1e-12);
+    }
+
+    /// The split along x: conforming (the boundary is the box surface, 2 triangles per
+    /// cube face), filling the box, every tetrahedron with an edge along x (so a layer thin
+    /// in x does not lock), and with an even number of layers mirror-symmetric in x: the
+    /// mesh reflected at x = 2 is the same set of tetrahedra.
+    #[test]
+    fn split_along_x_is_conforming_with_an_x_edge_in_every_tet_and_mirror_symmetric() {
+        let planes = [
+            vec![0.0, 0.5, 1.5, 2.0],
+            vec![0.0, 1.0, 2.0, 3.0],
+            vec![0.0, 0.4, 1.0],
+        ];
+        for mirrored in [false, true] {
+            let m = block_on_planes(&planes, Split::ExtrudedX { mirrored }).unwrap();
+            assert_eq!(m.tets().len(), 6 * 18);
+            let vol: f64 = (0..m.tets().len())
+                .map(|i| tet4::signed_volume(&m.tet(i)))
+                .sum();
+            assert!((vol - 6.0).abs() < 1e-12, "{vol}");
+            assert_eq!(m.boundary().len(), 2 * (2 * (3 * 2 + 3 * 2 + 3 * 3)));
+            for t in 0..m.tets().len() {
+                let p = m.tet(t);
+                let x_edge = (0..4).any(|a| {
+                    (a + 1..4)
+                        .any(|b| p[a][0] != p[b][0] && p[a][1] == p[b][1] && p[a][2] == p[b][2])
+                });
+                assert!(x_edge, "tet {t}: {p:?}");
+            }
+        }
+        let key = |p: [f64; 3]| p.map(|c| (c * 1e9).round() as i64);
+        let tets = |m: &Mesh3d, reflect: bool| {
+            let mut all: Vec<[[i64; 3]; 4]> = (0..m.tets().len())
+                .map(|t| {
+                    let mut c = m
+                        .tet(t)
+                        .map(|p| key([if reflect { 2.0 - p[0] } else { p[0] }, p[1], p[2]]));
+                    c.sort();
+                    c
+                })
+                .collect();
+            all.sort();
+            all
+        };
+        // Three layers (odd) are not symmetric; four, with planes symmetric about x = 1, are.
+        let even = [
+            vec![0.0, 0.5, 1.0, 1.5, 2.0],
+            planes[1].clone(),
+            planes[2].clone(),
+        ];
+        let m = block_on_planes(&even, Split::ExtrudedX { mirrored: false }).unwrap();
+        assert_eq!(tets(&m, true), tets(&m, false));
+        let m = block_on_planes(&planes, Split::ExtrudedX { mirrored: false }).unwrap();
+        assert_ne!(tets(&m, true), tets(&m, false));
     }
 }

@@ -162,11 +162,11 @@ mod tests {
     use super::*;
     use crate::assembly::solid::Tetrahedron;
     use crate::element::{Elastic, Law, Material};
-    use crate::mesh::generate::block_on_planes;
+    use crate::mesh::generate::{block_on_planes, Split};
 
-    fn solid(x: Vec<f64>, mirrored: bool, kind: Tetrahedron) -> Solid {
+    fn solid(x: Vec<f64>, split: Split, kind: Tetrahedron) -> Solid {
         let planes = [x, vec![0.0, 1.0, 2.5, 4.0], vec![0.0, 1.5, 3.0]];
-        let mesh = block_on_planes(&planes, mirrored).unwrap();
+        let mesh = block_on_planes(&planes, split).unwrap();
         let material = Material::new(Law::NeoHookean, Elastic::new("m", 1.0, 0.3).unwrap());
         Solid::new(&mesh, kind, material)
     }
@@ -187,8 +187,16 @@ mod tests {
             (Tetrahedron::Tet10, &quadratic),
         ];
         for (kind, f) in field {
-            let from = solid(vec![0.0, 2.0, 4.0, 6.0], false, kind);
-            let to = solid(vec![0.0, 0.7, 2.7, 4.7, 6.0], true, kind);
+            let from = solid(
+                vec![0.0, 2.0, 4.0, 6.0],
+                Split::Alternating { mirrored: false },
+                kind,
+            );
+            let to = solid(
+                vec![0.0, 0.7, 2.7, 4.7, 6.0],
+                Split::ExtrudedX { mirrored: true },
+                kind,
+            );
             let u: Vec<f64> = from.nodes().iter().flat_map(f).collect();
             let carried = transfer(&from, &u, &to, 2.5).unwrap();
             for (n, p) in to.nodes().iter().enumerate() {
