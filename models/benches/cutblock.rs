@@ -1,4 +1,5 @@
-//! Cut-block scene benchmarks on the default block (6 × 16 × 14 cubes × 5 tetrahedra).
+//! Cut-block scene benchmarks on the default block (6 × 16 × 14 cubes × 6 tetrahedra, split
+//! along x as the scene splits them).
 //!
 //! Run: `cargo bench -p models --bench cutblock`.
 
@@ -8,6 +9,14 @@ use models::scene::Scene;
 
 fn main() {
     divan::main();
+}
+
+/// The default block uncut, split as the scene splits it.
+fn default_block() -> models::mesh::Mesh3d {
+    use models::mesh::generate::{block_on_planes, Split};
+    let planes = [(100.0, 6), (80.0, 16), (17.0, 14)]
+        .map(|(l, n)| (0..=n).map(|i| l * f64::from(i) / f64::from(n)).collect());
+    block_on_planes(&planes, Split::ExtrudedX { mirrored: false }).unwrap()
 }
 
 fn initialized() -> CutBlock {
@@ -109,10 +118,9 @@ fn material_change_step(bencher: Bencher) {
 mod parts {
     use super::*;
     use models::mesh::cut::{split, Incision};
-    use models::mesh::generate;
 
     fn base() -> models::mesh::Mesh3d {
-        generate::block([100.0, 80.0, 17.0], [6, 16, 14]).unwrap()
+        default_block()
     }
 
     #[divan::bench]
@@ -183,14 +191,14 @@ mod tangent {
     use super::*;
     use models::assembly::solid::Solid;
     use models::element::{Elastic, Law, Material};
-    use models::mesh::{generate, QuadraticMesh};
+    use models::mesh::QuadraticMesh;
 
     #[divan::bench(
         args = [("tet4", 1), ("tet4", 2), ("tet10", 1), ("tet10", 2)],
         consts = [false, true]
     )]
     fn neo_hookean<const TANGENT: bool>(bencher: Bencher, (element, threads): (&str, usize)) {
-        let mesh = generate::block([100.0, 80.0, 17.0], [6, 16, 14]).unwrap();
+        let mesh = default_block();
         let material = Material::new(Law::NeoHookean, Elastic::new("m", 0.0385, 0.43).unwrap());
         let solid = match element {
             "tet4" => Solid::linear(&mesh, material),

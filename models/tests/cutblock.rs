@@ -256,7 +256,9 @@ fn hard_cases_edge_cut_zero_pull_and_press_on_the_flank() {
         .fold(f64::INFINITY, f64::min);
     assert!(lowest < 17.0, "{lowest}");
     // 5 N (at the tip of a 40 mm cut) folds the flanks past the small-sliding range in one
-    // go; split into parts, the load converges with the flanks apart.
+    // go; split into parts, the load converges with the flanks apart. (At a 50 mm cut, where
+    // this ran with five tetrahedra per cube, the springs now linearize again where they
+    // hold and no warning is said: penetration 2.7 µm, 2026-11-27.)
     let mut s = scene(&[], &[]);
     step(&mut s, &[("scalpel_x", 40.0), ("press_force", 5.0)]);
     let depth = get(&mut s, "penetration");

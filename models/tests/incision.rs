@@ -206,6 +206,7 @@ fn assert_outputs_agree(reference: f64, xs: &[f64], skip: &[&str], tol: f64, flo
     };
     let expected = at(reference);
     for &x in xs {
+        let mut largest = 0.0f64;
         for (i, (a, b)) in at(x).iter().zip(&expected).enumerate() {
             let allowed = (tol * a.abs().max(b.abs())).max(floor);
             let same = (a.is_nan() && b.is_nan()) || (a - b).abs() <= allowed;
@@ -213,7 +214,11 @@ fn assert_outputs_agree(reference: f64, xs: &[f64], skip: &[&str], tol: f64, flo
                 same,
                 "blade {x}, output value {i}: {a} vs {b} at {reference}"
             );
+            if !a.is_nan() {
+                largest = largest.max((a - b).abs() / allowed);
+            }
         }
+        println!("blade {x} against {reference}: the largest difference is {largest:.3} of its allowance");
     }
 }
 
@@ -230,16 +235,19 @@ fn a_blade_on_a_uniform_plane_and_next_to_it_agree() {
 /// 1 % of that width before and after gives outputs within 1e-5 of each other (1e-9 mm or
 /// N near zero), and the incision begun at 1.01 SNAP h (0.17 µm) the outputs of the uncut
 /// block within 1e-5 (1e-6 mm near zero: the opening of that cut), its length apart. The cubes are split along
-/// x so that such thin cells do not lock: with the five-tetrahedra split of seed 002 the
-/// cell appearing behind a front at h + SNAP h made the opening at x = 0 jump by 11 % and
-/// the reaction by 0.1 % (measured 2026-11-27 at a 10 mm pull with SNAP = 1e-3).
+/// x so that such thin cells do not lock: with the five-tetrahedra split of seed 002 this
+/// test failed, the reaction 4.1830 against 4.1221 N (+1.5 %), and at a 10 mm pull with
+/// the former SNAP = 1e-3 the opening at x = 0 jumped by 11 % and the reaction by 0.1 %
+/// (measured 2026-11-27). Measured with the split along x: the largest difference 0.80 of its
+/// allowance where the cell appears (the thin cell's effect, of the order of its width) and
+/// 0.12 where the incision begins.
 ///
 /// `max_von_mises` is left out where the cell appears behind the front: it is a maximum of
 /// nodal averages, and the nodes of the end face then average only the thin cell's
 /// elements, whose stress is the face's rather than the first cell's: it jumps there, by
 /// 13 % at this pull (docs/theory/cutblock.md).
 #[test]
-fn a_cell_appearing_at_the_end_face_changes_no_output() {
+fn a_cell_appearing_at_the_end_face_changes_no_output_but_the_stress_maximum() {
     let h = 100.0 / 6.0;
     let enters = h + SNAP * h;
     let eta = 0.01 * SNAP * h;

@@ -140,7 +140,8 @@ const EVEN_CUBE: [[usize; 4]; 5] = [
 ];
 
 /// Corner offsets (as in [`EVEN_CUBE`]) of the six tetrahedra of a cube split for
-/// [`Split::ExtrudedX`], unmirrored (corner c ↦ c XOR 1 mirrors it in x): its (y, z) square cut along the diagonal from corner 0 (even
+/// [`Split::ExtrudedX`], unmirrored (corner c ↦ c XOR 1 mirrors it in x): its (y, z)
+/// square cut along the diagonal from corner 0 (even
 /// `parity`) or from corner 2 (odd), each triangle p < q < r (corners of the x = 0 face,
 /// ordered by their (y, z) grid index, which neighbouring cubes share) extruded to the
 /// x = 1 face (corner + 1) and split into [p q r r'], [p q q' r'], [p p' q' r']. Each
@@ -186,7 +187,8 @@ pub fn block(size: [f64; 3], cells: [usize; 3]) -> Result<Mesh3d, ModelError> {
 /// Memory of a block mesh with `n` node planes per axis and of its assembled system,
 /// estimated before anything is allocated: per node its coordinates and about 120 stored
 /// entries of the 3-dof stiffness pattern (measured: 103–112 on the default mesh and two
-/// refinements with [`Split::Alternating`], 116 with [`Split::ExtrudedX`]), each an index
+/// refinements with [`Split::Alternating`], 116 with [`Split::ExtrudedX`] on the default
+/// block, counted 2026-11-27 by a scratch program), each an index
 /// and three value copies (element sum, with contact, reduced); per cube five tetrahedra
 /// with 32 bytes and a 12 × 12 scatter map of 8-byte indices each (the assembler's map is
 /// smaller since 2026-11-27, 16 node pairs of 16 bytes, so that even the six tetrahedra of

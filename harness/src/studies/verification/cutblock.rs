@@ -52,7 +52,7 @@ const LINEAR: [(&str, &str); 1] = [("material", "linear")];
 /// Writes the section's tables to `out`.
 pub fn run(out: &mut String) -> Result<()> {
     writeln!(
-        out,"4. Cut block (seed 002): 100 × 80 × 17 mm, 6 × 16 × 14 cubes × 5 tetrahedra, cut at y = 45 mm,")?;
+        out,"4. Cut block (seed 002): 100 × 80 × 17 mm, 6 × 16 × 14 cubes × 6 tetrahedra, cut at y = 45 mm,")?;
     writeln!(
         out,
         "   8.5 mm deep over the full width, 10 mm pull; E = 0.0385 MPa (displacement loading: the"
