@@ -141,10 +141,10 @@ const EVEN_CUBE: [[usize; 4]; 5] = [
 
 /// Corner offsets (as in [`EVEN_CUBE`]) of the six tetrahedra of a cube split for
 /// [`Split::ExtrudedX`], unmirrored (corner c ↦ c XOR 1 mirrors it in x): its (y, z)
-/// square cut along the diagonal from corner 0 (even
-/// `parity`) or from corner 2 (odd), each triangle p < q < r (corners of the x = 0 face,
-/// ordered by their (y, z) grid index, which neighbouring cubes share) extruded to the
-/// x = 1 face (corner + 1) and split into [p q r r'], [p q q' r'], [p p' q' r']. Each
+/// square cut along the diagonal from corner 0 (even `parity`) or from corner 2 (odd), each
+/// triangle p < q < r (corners of the x = 0 face, ordered by their (y, z) grid index, which
+/// neighbouring cubes share) extruded to the x = 1 face (corner + 1) and split into
+/// [p q r r'], [p q q' r'], [p p' q' r']. Each
 /// rectangle between two prisms is then cut along the diagonal from the lower-indexed
 /// corner's x = 0 end to the other's x = 1 end in both prisms, so the mesh is conforming.
 fn extruded_cube(parity: usize) -> [[usize; 4]; 6] {

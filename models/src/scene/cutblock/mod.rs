@@ -1,8 +1,9 @@
 //! The cut-block scene (seed 002): a silicone block of tetrahedra (cubes of 6 tetrahedra,
 //! split along x so that the cells the sliding grid makes thin at the end faces do not
-//! lock, where seed 002 §3.1 had 5 per cube; linear or quadratic), clamped at y = 0 and pulled in y at y = L
-//! (§2.1), pressed by a force on the top surface at the scalpel tip, with a straight incision
-//! in the plane y = y_cut from the top down to a depth, growing in x with the scalpel (§3.4):
+//! lock, where seed 002 §3.1 had 5 per cube; linear or quadratic), clamped at y = 0 and
+//! pulled in y at y = L (§2.1), pressed by a force on the top surface at the scalpel tip,
+//! with a straight incision in the plane y = y_cut from the top down to a depth, growing in
+//! x with the scalpel (§3.4):
 //! it ends where the blade is (a node plane is put there) and never heals — withdrawing the
 //! blade leaves it as long as the furthest the blade has been.
 //! Quasi-static: every step solves equilibrium for the current inputs (§3.3), with a linear
