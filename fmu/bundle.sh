@@ -13,5 +13,9 @@ fi
     ziglang==0.17.1 cargo-zigbuild==0.24.1
 target=x86_64-unknown-linux-gnu
 PATH="$PWD/.venv/bin:$PATH" cargo zigbuild --release -p fmu --lib --target "$target.2.28"
-cargo build --release -p fmu --bin bundle
+# The test suite builds the bundler with the rest of the workspace first (its features
+# differ from `-p fmu`'s, so building it here again would recompile the models crate).
+if [ "${1:-}" != "--bundler-built" ]; then
+    cargo build --release -p fmu --bin bundle
+fi
 ./target/release/bundle --library "target/$target/release/libfmu.so"

@@ -25,19 +25,20 @@ fi
 echo "== cargo clippy (all targets and features, warnings are errors)"
 cargo clippy --workspace --all-targets --all-features --release -- -D warnings
 
+echo "== build every test, the bundler and the harness binary (release, with the harness's FMU backend)"
+cargo test --workspace --all-features --release --no-run
 echo "== the FMU library against glibc 2.28 (cargo-zigbuild, zig from PyPI), bundled (the import tests load the FMUs)"
-bash fmu/bundle.sh
+bash fmu/bundle.sh --bundler-built
 
-echo "== Rust tests (release, with the harness's FMU backend)"
+echo "== Rust tests"
 cargo test --workspace --all-features --release
-cargo build --release -p harness --all-features
 
-echo "== Python environment (three FMI importers: fmpy, libcosimpy, ecospy; pytest, dask, meshio, matplotlib for the examples)"
+echo "== Python environment (three FMI importers: fmpy, libcosimpy, ecospy; pytest with xdist to run on every core, dask, meshio, matplotlib for the examples)"
 if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
 fi
 .venv/bin/python -m pip install --quiet --disable-pip-version-check \
-    fmpy==0.3.32 libcosimpy==0.0.6 ecospy==0.7.2 pytest numpy meshio==5.3.5 \
+    fmpy==0.3.32 libcosimpy==0.0.6 ecospy==0.7.2 pytest pytest-xdist==3.8.0 numpy meshio==5.3.5 \
     "dask[distributed]==2026.8.0" matplotlib==3.11.2
 echo "== FMUs in fmpy, libcosim and Ecos; the Dask sweep runner on a local two-worker cluster; VTU files in meshio; the examples in examples/python"
-.venv/bin/python -m pytest -q tests/python
+.venv/bin/python -m pytest -q -n auto tests/python

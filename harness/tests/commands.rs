@@ -338,7 +338,7 @@ fn the_quick_report_writes_every_section() {
         "## Material identification on the shipped set C",
         "## Speed versus error, abdomen",
         "## Speed versus error, cut block",
-        "## Sweep `pelvis_sweep` (62 cases)",
+        "## Sweep `pelvis_sweep_quick` (28 cases)",
         "## The shipped configurations in three model orders",
         "## Sweep `pelvis_sweep` in four model forms",
         "## Sweep `cutblock_sweep` (15 cases)",
@@ -357,7 +357,7 @@ fn the_quick_report_writes_every_section() {
             "physiology.png",
             "cutblock_speed_error.csv",
             "cutblock_pareto.png",
-            "pelvis_sweep/report.md",
+            "pelvis_sweep_quick/report.md",
             "model_orders.csv",
             "cutblock_sweep/report.md",
             "abdomen_stress.png",
@@ -369,10 +369,17 @@ fn the_quick_report_writes_every_section() {
     // Three model orders over the five shipped configurations, a row each and a header.
     let orders = std::fs::read_to_string(out.join("model_orders.csv")).unwrap();
     assert_eq!(orders.lines().count(), 16, "{orders}");
-    // The quick identification is the model the data were made with: at the noise level.
+    // The quick identification is the model the data were made with: at the noise level,
+    // ν inside its search interval, both 95 % intervals narrower than ±1 % of E and ±0.01
+    // of ν (as `identification.rs` asserts for set A).
     let fit: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(out.join("identify_C_neo_hookean_tet10.json")).unwrap(),
     )
     .unwrap();
     assert_eq!(fit["at_noise_level"].as_bool(), Some(true), "{fit}");
+    assert_eq!(fit["nu"]["at_bound"].as_bool(), Some(false), "{fit}");
+    let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{fit}"));
+    let e = number(&fit["E_MPa"]["value"]);
+    assert!(1.96 * number(&fit["E_MPa"]["sigma"]) < 0.01 * e, "{fit}");
+    assert!(1.96 * number(&fit["nu"]["sigma"]) < 0.01, "{fit}");
 }

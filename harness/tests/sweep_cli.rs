@@ -152,9 +152,7 @@ fn a_killed_sweep_resumes_to_the_same_results() {
         tmp.path(),
         &EXPERIMENT
             .replace("jobs = 2", "jobs = 1")
-            .replace("stop_time = 0.2", "stop_time = 1.0")
-            .replace("target_triangles = 400", "target_triangles = 3000")
-            .replace("time = [0.0, 0.2]", "time = [0.0, 1.0]"),
+            .replace("target_triangles = 400", "target_triangles = 1000"),
     );
     let clean = tmp.path().join("clean");
     assert!(sweep(&exp, &clean).status.success());

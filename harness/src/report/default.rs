@@ -21,22 +21,27 @@ pub const SECTIONS: [(&str, Section); 11] = [
     ("speed versus error, abdomen", speed_error::section),
     ("speed versus error, cut block", cut_speed_error::section),
     ("blade path", blade_path::section),
-    ("pelvis sweep", |r, _| {
-        sweep::shipped(r, "pelvis_sweep", &["configuration", "anatomy.outlet"])
+    ("pelvis sweep", |r, depth| {
+        let shown = ["configuration", "anatomy.outlet"];
+        sweep::shipped(r, "pelvis_sweep", &shown, depth, Some(QUICK_SWEEP))
     }),
     ("model orders", model_order::section),
-    ("cut-block sweep", |r, _| {
-        sweep::shipped(r, "cutblock_sweep", &["cut_depth"])
+    ("cut-block sweep", |r, depth| {
+        sweep::shipped(r, "cutblock_sweep", &["cut_depth"], depth, None)
     }),
     ("fields", fields::section),
 ];
+
+/// The quick report's pelvis sweep: its Latin hypercube cut to this many samples and its
+/// grids to this many levels (28 of its 62 cases; each takes seconds at finite strain).
+const QUICK_SWEEP: (usize, usize) = (8, 3);
 
 /// What the quick report leaves to `--full`, said at its top.
 const QUICK: &str = "Quick report: every capability once, at settings chosen for time; each \
 section says what it ran and how accurate that is. `harness report --full` runs the converged \
 studies instead: both measurement sets with two models each, the abdomen's speed–error front \
 against a reference on 48,000 graded triangles, the cut block's against a Richardson reference \
-on three graded neo-Hookean tet10 meshes, and the shipped pelvis sweep in four model forms (full and hyper-reduced finite strain, full and modal small strain).";
+on three graded neo-Hookean tet10 meshes, all 62 cases of the shipped pelvis sweep (quick: 28) and that sweep in four model forms (full and hyper-reduced finite strain, full and modal small strain).";
 
 /// Writes the default report at `depth` into `out` and returns the path of its `report.md`.
 pub fn run(out: &Path, depth: Depth) -> Result<PathBuf> {

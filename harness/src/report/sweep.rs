@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 
 use super::plot::{self, Axis, Chart, Curve, Mark};
-use super::Report;
+use super::{Depth, Report};
 use crate::sweep::{runner, CaseResult, Design, Experiment, Outcome, Series, Value};
 
 /// The unit of a parameter or output, from the scene's table or its generator parameters.
@@ -50,19 +50,44 @@ pub fn command(
 }
 
 /// Runs a shipped sweep ([`Experiment::shipped`]) into a subfolder of `report` and
-/// summarizes it there, with the plots of the parameters in `shown` inline.
-pub fn shipped(report: &mut Report, name: &str, shown: &[&str]) -> Result<()> {
-    let e = Experiment::shipped(name)?;
-    report.heading(&format!("Sweep `{name}` ({} cases)", e.cases.len()));
+/// summarizes it there, with the plots of the parameters in `shown` inline. At
+/// [`Depth::Quick`] with `thin` = (samples, levels), its Latin hypercubes and grids cut to
+/// those ([`Experiment::thinned`]) into a folder of their own.
+pub fn shipped(
+    report: &mut Report,
+    name: &str,
+    shown: &[&str],
+    depth: Depth,
+    thin: Option<(usize, usize)>,
+) -> Result<()> {
+    let shipped = Experiment::shipped(name)?;
+    let total = shipped.cases.len();
+    let (e, quick) = match thin {
+        Some((samples, levels)) if depth == Depth::Quick => {
+            let e = shipped.thinned(samples, levels)?;
+            let note = format!(
+                "Quick: `{name}` with its Latin hypercubes cut to at most {samples} samples and \
+                 its grids to {levels} levels, {} of its {total} cases; `--full` runs them all.",
+                e.cases.len()
+            );
+            (e, Some(note))
+        }
+        _ => (shipped, None),
+    };
+    report.heading(&format!("Sweep `{}` ({} cases)", e.name, e.cases.len()));
     report.text(&e.description);
-    let (_, correlations) = sweep(&e, &report.path(name))?;
+    if let Some(note) = quick {
+        report.text(&note);
+    }
+    let dir = &e.name;
+    let (_, correlations) = sweep(&e, &report.path(dir))?;
     report.text(&format!(
-        "Full sweep report: [{name}/report.md]({name}/report.md)."
+        "Full sweep report: [{dir}/report.md]({dir}/report.md)."
     ));
     for parameter in shown {
         report.figure(
             &format!("Peak {} against {parameter}", e.metric),
-            &format!("{name}/{}", plot_stem(parameter)),
+            &format!("{dir}/{}", plot_stem(parameter)),
         );
     }
     report.table(

@@ -162,6 +162,41 @@ impl Experiment {
         })
     }
 
+    /// This experiment with each Latin hypercube cut to at most `samples` points and each
+    /// grid range to at most `levels`, named `<name>_quick`: the quick report's version of a
+    /// long sweep (every design, fewer cases), its file written back as TOML so that its
+    /// folder holds what reproduces it.
+    pub fn thinned(&self, samples: usize, levels: usize) -> Result<Self> {
+        let mut file: toml::Table = toml::from_str(&self.source)?;
+        file.insert("name".into(), format!("{}_quick", self.name).into());
+        if let Some(fmu) = &self.fmu {
+            file.insert("fmu".into(), fmu.display().to_string().into());
+        }
+        let cap = |value: &mut toml::Value, most: usize| {
+            if let Some(n) = value.as_integer() {
+                *value = n.min(most as i64).into();
+            }
+        };
+        let blocks = file.get_mut("sweep").and_then(toml::Value::as_array_mut);
+        for block in blocks
+            .into_iter()
+            .flatten()
+            .filter_map(toml::Value::as_table_mut)
+        {
+            if let Some(n) = block.get_mut("samples") {
+                cap(n, samples);
+            }
+            let ranges = block.get_mut("ranges").and_then(toml::Value::as_table_mut);
+            for (_, range) in ranges.into_iter().flat_map(|r| r.iter_mut()) {
+                if let Some(l) = range.as_table_mut().and_then(|r| r.get_mut("levels")) {
+                    cap(l, levels);
+                }
+            }
+        }
+        Self::parse(&toml::to_string(&file)?, Path::new("."))
+            .with_context(|| format!("{} thinned", self.name))
+    }
+
     /// What a case with `settings` runs: this experiment's times, inputs and outputs.
     pub fn schedule<'a>(&'a self, settings: &'a [(String, Value)]) -> Schedule<'a> {
         Schedule {
@@ -417,6 +452,30 @@ ranges = { "anatomy.outlet" = { min = 100.0, max = 130.0, levels = 3 } }
         let (path, text) = s.config.unwrap();
         assert_eq!(path, Path::new("/runs/configs/case_0003.toml"));
         assert!(text.contains("outlet = 115.0"), "{text}");
+    }
+
+    /// The shipped pelvis sweep thinned as the quick report runs it: its five
+    /// configurations, 8 of 32 Latin hypercube samples, 3 of 5 levels on each of its five
+    /// grids; the written file reads back as the same plan.
+    #[test]
+    fn a_thinned_sweep_keeps_every_block_with_fewer_points() {
+        let full = Experiment::shipped("pelvis_sweep").unwrap();
+        let quick = full.thinned(8, 3).unwrap();
+        assert_eq!((full.cases.len(), quick.cases.len()), (62, 5 + 8 + 5 * 3));
+        assert_eq!(quick.name, "pelvis_sweep_quick");
+        assert_eq!(quick.varied(), full.varied());
+        assert_eq!(quick.step, full.step);
+        let again = Experiment::parse(&quick.source, Path::new(".")).unwrap();
+        assert_eq!(again.cases, quick.cases);
+        // The grids keep their ends: outlet 95, 115 and 135 mm.
+        let outlets: Vec<&Value> = quick
+            .cases
+            .iter()
+            .filter(|c| c.design == design::Design::Grid)
+            .filter_map(|c| c.values.get("anatomy.outlet"))
+            .collect();
+        let mm = [95.0, 115.0, 135.0].map(Value::Real);
+        assert_eq!(outlets, mm.iter().collect::<Vec<_>>());
     }
 
     #[test]
