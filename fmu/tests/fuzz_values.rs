@@ -207,30 +207,28 @@ fn run(case: &Case) -> Vec<fmi2Status> {
 /// The test (a harness of its own, `harness = false`): run with `FUZZ_CASE` = k it is the
 /// child that runs case k; without, the parent that runs every case in children.
 fn main() {
-    match std::env::var("FUZZ_CASE") {
-        Ok(index) => {
-            let case = &cases()[index.parse::<usize>().unwrap()];
-            let statuses = run(case);
-            println!("{case:?} -> {statuses:?}");
-        }
-        Err(_) => every_declared_value_runs_or_is_refused(),
+    if let Ok(index) = std::env::var("FUZZ_CASE") {
+        let case = &cases()[index.parse::<usize>().unwrap()];
+        let statuses = run(case);
+        println!("{case:?} -> {statuses:?}");
+        return;
     }
+    // The parent: one test, listed and run as libtest does (so that cargo test and
+    // cargo-nextest both find it).
+    let trial = libtest_mimic::Trial::test(
+        "every_declared_value_runs_or_is_refused",
+        every_declared_value_runs_or_is_refused,
+    );
+    libtest_mimic::run(&libtest_mimic::Arguments::from_args(), vec![trial]).exit();
 }
 
-fn every_declared_value_runs_or_is_refused() {
+fn every_declared_value_runs_or_is_refused() -> Result<(), libtest_mimic::Failed> {
     let exe = std::env::current_exe().unwrap();
     let all = cases();
     let mut failures = Vec::new();
     let start = Instant::now();
     let spawn = |index: usize| {
         let child = Command::new(&exe)
-            .args([
-                "--exact",
-                "fuzz_case_child",
-                "--nocapture",
-                "--test-threads",
-                "1",
-            ])
             .env("FUZZ_CASE", index.to_string())
             .stdout(std::process::Stdio::piped())
             .stderr(std::process::Stdio::piped())
@@ -281,6 +279,9 @@ fn every_declared_value_runs_or_is_refused() {
         all.len(),
         start.elapsed().as_secs_f64()
     );
-    assert!(failures.is_empty(), "{}", failures.join("\n"));
-    println!("test every_declared_value_runs_or_is_refused ... ok");
+    if failures.is_empty() {
+        Ok(())
+    } else {
+        Err(failures.join("\n").into())
+    }
 }
