@@ -60,8 +60,9 @@ impl Mesh3d {
     }
 
     /// Faces that belong to exactly one tetrahedron, in tetrahedron order: every face's
-    /// sorted node triple, sorted, so that a face shared by two tetrahedra is a run of two
-    /// (a sort instead of a hash map: this runs at every blade advance).
+    /// sorted node triple and its index packed into one 128-bit key (32 bits each), the keys
+    /// sorted, so that a face shared by two tetrahedra is a run of two (a sort of integers
+    /// instead of a hash map: this runs at every blade advance).
     fn find_boundary(&self) -> Vec<BoundaryFace> {
         let faces: Vec<BoundaryFace> = self
             .tets
@@ -74,20 +75,21 @@ impl Mesh3d {
                 })
             })
             .collect();
-        let mut keys: Vec<([usize; 3], usize)> = faces
+        let id = |n: usize| u32::try_from(n).expect("fewer than 2³² nodes and faces") as u128;
+        let mut keys: Vec<u128> = faces
             .iter()
             .enumerate()
             .map(|(i, f)| {
                 let mut k = f.nodes;
                 k.sort_unstable();
-                (k, i)
+                id(k[0]) << 96 | id(k[1]) << 64 | id(k[2]) << 32 | id(i)
             })
             .collect();
         keys.sort_unstable();
         let mut single = vec![false; faces.len()];
-        for run in keys.chunk_by(|a, b| a.0 == b.0) {
-            if let [(_, i)] = run {
-                single[*i] = true;
+        for run in keys.chunk_by(|a, b| a >> 32 == b >> 32) {
+            if let [key] = run {
+                single[(key & u128::from(u32::MAX)) as usize] = true;
             }
         }
         faces
