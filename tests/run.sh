@@ -26,6 +26,11 @@ fi
 echo "== cargo clippy (all targets and features, warnings are errors)"
 cargo clippy --workspace --all-targets --all-features --release -- -D warnings
 
+# The Python venv (.venv): zig and cargo-zigbuild for the bundle, cargo-nextest, the importers.
+if [ ! -x .venv/bin/python ]; then
+    python3 -m venv .venv
+fi
+
 echo "== build every test, the bundler and the harness binary (release, with the harness's FMU backend)"
 cargo test --workspace --all-features --release --no-run
 echo "== the FMU library against glibc 2.28 (cargo-zigbuild, zig from PyPI), bundled (the import tests load the FMUs)"
@@ -37,9 +42,6 @@ echo "== Rust tests (cargo-nextest from PyPI: tests of every binary side by side
 PATH="$PWD/.venv/bin:$PATH" cargo nextest run --workspace --all-features --release
 
 echo "== Python environment (three FMI importers: fmpy, libcosimpy, ecospy; pytest with xdist to run on every core, dask, meshio, matplotlib for the examples)"
-if [ ! -x .venv/bin/python ]; then
-    python3 -m venv .venv
-fi
 .venv/bin/python -m pip install --quiet --disable-pip-version-check \
     fmpy==0.3.32 libcosimpy==0.0.6 ecospy==0.7.2 pytest pytest-xdist==3.8.0 numpy meshio==5.3.5 \
     "dask[distributed]==2026.8.0" matplotlib==3.11.2

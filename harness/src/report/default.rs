@@ -32,8 +32,9 @@ pub const SECTIONS: [(&str, Section); 11] = [
     ("fields", fields::section),
 ];
 
-/// The quick report's pelvis sweep: its Latin hypercube cut to this many samples and its
-/// grids to this many levels (28 of its 62 cases; each takes seconds at finite strain).
+/// The quick report's pelvis sweep: its Latin hypercube drawn with this many samples and
+/// its grids at this many levels (28 cases instead of 62; each takes seconds at finite
+/// strain).
 const QUICK_SWEEP: (usize, usize) = (8, 3);
 
 /// What the quick report leaves to `--full`, said at its top.

@@ -66,8 +66,9 @@ pub fn shipped(
         Some((samples, levels)) if depth == Depth::Quick => {
             let e = shipped.thinned(samples, levels)?;
             let note = format!(
-                "Quick: `{name}` with its Latin hypercubes cut to at most {samples} samples and \
-                 its grids to {levels} levels, {} of its {total} cases; `--full` runs them all.",
+                "Quick: `{name}` with its Latin hypercubes drawn anew with at most {samples} \
+                 samples over the same ranges and its grids at {levels} levels, {} cases instead \
+                 of its {total}; `--full` runs them all.",
                 e.cases.len()
             );
             (e, Some(note))

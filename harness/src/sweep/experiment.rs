@@ -162,8 +162,8 @@ impl Experiment {
         })
     }
 
-    /// This experiment with each Latin hypercube cut to at most `samples` points and each
-    /// grid range to at most `levels`, named `<name>_quick`: the quick report's version of a
+    /// This experiment with each Latin hypercube drawn anew with at most `samples` points
+    /// (same ranges and seed) and each grid range at most `levels`, named `<name>_quick`: the quick report's version of a
     /// long sweep (every design, fewer cases), its file written back as TOML so that its
     /// folder holds what reproduces it.
     pub fn thinned(&self, samples: usize, levels: usize) -> Result<Self> {
