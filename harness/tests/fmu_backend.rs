@@ -1,7 +1,8 @@
 //! The FMU backend (feature `fmu`): the same sweep run through the packaged FMI 2 FMUs
 //! (loaded by the `fmi` crate) and in process gives the same numbers bit for bit, and a case
 //! the FMU refuses is recorded with the FMU's own message. Needs the bundled FMUs
-//! (`cargo build --release -p fmu && target/release/bundle`, done by tests/run.sh).
+//! (`bash fmu/bundle.sh`, or `cargo build --release -p fmu && target/release/bundle`; tests/run.sh
+//! bundles its own build).
 #![cfg(feature = "fmu")]
 
 use std::path::{Path, PathBuf};

@@ -6,12 +6,11 @@ that both runners follow the same input rule: sampled at each step's start and h
 
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[2]
-HARNESS = ROOT / "target" / "release" / "harness"
+from paths import ROOT, HARNESS
+
 DASK_SWEEP = ROOT / "harness" / "python" / "dask_sweep.py"
 FMU = ROOT / "target" / "fmu" / "abdomen-fmi2.fmu"
 

@@ -7,13 +7,12 @@ import io
 import re
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[2]
+from paths import ROOT, HARNESS
+
 EXAMPLES = ROOT / "examples" / "python"
-HARNESS = ROOT / "target" / "release" / "harness"
 
 
 def example(name, *args, cwd):

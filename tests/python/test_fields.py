@@ -3,13 +3,12 @@ fields ParaView will see match what the harness reports."""
 
 import re
 import subprocess
-from pathlib import Path
 
 import meshio
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[2]
-HARNESS = ROOT / "target" / "release" / "harness"
+from paths import ROOT, HARNESS
+
 
 
 def test_fields_read_back_with_meshio(tmp_path):

@@ -14,8 +14,7 @@ from fmpy import extract, read_model_description, simulate_fmu
 from fmpy.fmi2 import FMU2Slave
 from fmpy.fmi3 import FMU3Slave
 
-ROOT = Path(__file__).resolve().parents[2]
-FMUS = ROOT / "target" / "fmu"
+from paths import ROOT, FMUS
 
 RUNS = {
     "cutblock": dict(parameters={"cells_x": 6.0, "cells_y": 4.0, "cells_z": 3.0},

@@ -18,9 +18,8 @@ from fmpy.fmi3 import FMU3Slave
 from fmpy.validation import validate_fmu
 from fmpy import extract
 
-ROOT = Path(__file__).resolve().parents[2]
-FMUS = ROOT / "target" / "fmu"
-HARNESS = ROOT / "target" / "release" / "harness"
+from paths import ROOT, FMUS, HARNESS
+
 VERSIONS = ["fmi2", "fmi3"]
 SMALL_BLOCK = {"cells_x": 2.0, "cells_y": 4.0, "cells_z": 3.0}
 # fmpy's FMI 2 printer behind its native logger proxy, restored after a test that logs into

@@ -19,7 +19,6 @@ both versions.
 import csv
 import io
 import subprocess
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -27,9 +26,8 @@ from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 from fmpy.fmi3 import FMU3Slave
 
-ROOT = Path(__file__).resolve().parents[2]
-FMUS = ROOT / "target" / "fmu"
-HARNESS = ROOT / "target" / "release" / "harness"
+from paths import ROOT, FMUS, HARNESS
+
 
 
 class Scenario:

@@ -15,7 +15,11 @@ fn fmu(name: &str) -> PathBuf {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../target/fmu")
         .join(name);
-    assert!(p.is_file(), "{} missing: build and bundle first (cargo build --release -p fmu && target/release/bundle)", p.display());
+    assert!(
+        p.is_file(),
+        "{} missing: build and bundle first (bash fmu/bundle.sh)",
+        p.display()
+    );
     p
 }
 

@@ -3,31 +3,42 @@
 //!
 //! Run: `cargo run --release -p fmu --bin bundle` (cargo builds the shared library of the
 //! `fmu` crate alongside this binary; the bundler takes it from the same folder), or
-//! `bundle --library PATH` with a library built elsewhere — `fmu/bundle.sh` passes the one
-//! built against glibc 2.28.
+//! `bundle --library PATH` with a library built elsewhere (`fmu/bundle.sh` passes the one
+//! built against glibc 2.28). `--out DIR` writes the archives there instead of `fmu/` beside
+//! the binary's profile folder.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+const USAGE: &str = "usage: bundle [--library PATH-TO-libfmu.so] [--out DIR]";
+
 fn main() -> ExitCode {
     let exe = std::env::current_exe().unwrap_or_default();
     let dir = exe.parent().map(PathBuf::from).unwrap_or_default();
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let library = match args.as_slice() {
-        [] => dir.join(format!(
-            "{}fmu{}",
-            std::env::consts::DLL_PREFIX,
-            std::env::consts::DLL_SUFFIX
-        )),
-        [flag, path] if flag == "--library" => PathBuf::from(path),
-        _ => {
-            eprintln!("usage: bundle [--library PATH-TO-libfmu.so]");
-            return ExitCode::FAILURE;
-        }
-    };
-    let out = dir
+    let mut library = dir.join(format!(
+        "{}fmu{}",
+        std::env::consts::DLL_PREFIX,
+        std::env::consts::DLL_SUFFIX
+    ));
+    let mut out = dir
         .parent()
         .map_or_else(|| PathBuf::from("target/fmu"), |target| target.join("fmu"));
+    let mut args = std::env::args().skip(1);
+    while let Some(flag) = args.next() {
+        let slot = match flag.as_str() {
+            "--library" => &mut library,
+            "--out" => &mut out,
+            _ => {
+                eprintln!("bundle: unknown argument `{flag}`\n{USAGE}");
+                return ExitCode::FAILURE;
+            }
+        };
+        let Some(value) = args.next() else {
+            eprintln!("bundle: `{flag}` needs a path\n{USAGE}");
+            return ExitCode::FAILURE;
+        };
+        *slot = PathBuf::from(value);
+    }
     match fmu::bundle::write_all(&library, &out) {
         Ok(paths) => {
             for p in paths {
