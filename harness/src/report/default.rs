@@ -23,11 +23,12 @@ pub const SECTIONS: [(&str, Section); 11] = [
     ("blade path", blade_path::section),
     ("pelvis sweep", |r, depth| {
         let shown = ["configuration", "anatomy.outlet"];
-        sweep::shipped(r, "pelvis_sweep", &shown, depth, Some(QUICK_SWEEP))
+        let thin = (depth == Depth::Quick).then_some(QUICK_SWEEP);
+        sweep::shipped(r, "pelvis_sweep", &shown, thin)
     }),
     ("model orders", model_order::section),
-    ("cut-block sweep", |r, depth| {
-        sweep::shipped(r, "cutblock_sweep", &["cut_depth"], depth, None)
+    ("cut-block sweep", |r, _| {
+        sweep::shipped(r, "cutblock_sweep", &["cut_depth"], None)
     }),
     ("fields", fields::section),
 ];

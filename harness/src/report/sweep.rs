@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 
 use super::plot::{self, Axis, Chart, Curve, Mark};
-use super::{Depth, Report};
+use super::Report;
 use crate::sweep::{runner, CaseResult, Design, Experiment, Outcome, Series, Value};
 
 /// The unit of a parameter or output, from the scene's table or its generator parameters.
@@ -50,20 +50,19 @@ pub fn command(
 }
 
 /// Runs a shipped sweep ([`Experiment::shipped`]) into a subfolder of `report` and
-/// summarizes it there, with the plots of the parameters in `shown` inline. At
-/// [`Depth::Quick`] with `thin` = (samples, levels), its Latin hypercubes and grids cut to
-/// those ([`Experiment::thinned`]) into a folder of their own.
+/// summarizes it there, with the plots of the parameters in `shown` inline. With `thin` =
+/// (samples, levels), its Latin hypercubes and grids cut to those
+/// ([`Experiment::thinned`]) into a folder of their own.
 pub fn shipped(
     report: &mut Report,
     name: &str,
     shown: &[&str],
-    depth: Depth,
     thin: Option<(usize, usize)>,
 ) -> Result<()> {
     let shipped = Experiment::shipped(name)?;
     let total = shipped.cases.len();
     let (e, quick) = match thin {
-        Some((samples, levels)) if depth == Depth::Quick => {
+        Some((samples, levels)) => {
             let e = shipped.thinned(samples, levels)?;
             let note = format!(
                 "Quick: `{name}` with its Latin hypercubes drawn anew with at most {samples} \
@@ -73,7 +72,7 @@ pub fn shipped(
             );
             (e, Some(note))
         }
-        _ => (shipped, None),
+        None => (shipped, None),
     };
     report.heading(&format!("Sweep `{}` ({} cases)", e.name, e.cases.len()));
     report.text(&e.description);

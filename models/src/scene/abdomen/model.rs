@@ -46,7 +46,8 @@ pub struct Model {
     tension: Arc<SharedTension>,
     /// The finite-strain body (None at linear kinematics).
     pub(super) body: Option<Arc<BodyForces>>,
-    /// What a hyper-reduced model is trained for, and the step of its dynamic training.
+    /// What a hyper-reduced model is trained for, and the model's largest step (which
+    /// bounds the training's, [`training::step`]).
     training: (Range, f64),
     /// Whether the abdominal wall is held (the hyper-reduced model trains otherwise then).
     fixed_wall: bool,
@@ -335,8 +336,8 @@ impl Model {
                     .into(),
             ));
         };
-        let (range, dt) = self.training;
-        let (basis, hyper) = training::train(self, body, range, dt, count)?;
+        let (range, max_step) = self.training;
+        let (basis, hyper) = training::train(self, body, range, max_step, count)?;
         Ok(Modal {
             rows: None,
             strains: Vec::new(),
