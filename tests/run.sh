@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone: formatting, lints, every Rust test in release
 # mode (run by cargo-nextest; `cargo test --workspace --all-features --release` runs the
-# same tests one binary at a time), then the packaged FMUs in three importers (fmpy,
+# same tests one binary at a time, built for this machine's glibc), then the packaged FMUs in three importers (fmpy,
 # libcosim, Ecos) and the Dask sweep runner (a Python venv in .venv is created on first use).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -32,6 +32,9 @@ cargo clippy --workspace --all-targets --all-features --release --target "$ZIG_T
 
 echo "== build every test, the bundler, the harness binary and the FMU library (release, against glibc 2.28)"
 cargo test --workspace --all-features --release --no-run --target "$ZIG_TARGET"
+# cargo test compiles the FMUs' library (a cdylib) but leaves it among the dependencies'
+# files; this build of the same units compiles nothing and puts it beside the bundler.
+cargo build --workspace --all-features --release --target "$ZIG_TARGET" --lib --tests
 echo "== the FMUs bundled (the import tests load them)"
 "target/$ZIG_TARGET/release/bundle" --out target/fmu
 

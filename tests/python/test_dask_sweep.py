@@ -9,10 +9,10 @@ import sys
 
 import numpy as np
 
-from paths import ROOT, HARNESS
+from paths import FMUS, HARNESS, ROOT
 
 DASK_SWEEP = ROOT / "harness" / "python" / "dask_sweep.py"
-FMU = ROOT / "target" / "fmu" / "abdomen-fmi2.fmu"
+FMU = FMUS / "abdomen-fmi2.fmu"
 
 EXPERIMENT = """
 name = "dask_check"

@@ -77,7 +77,7 @@ def test_identify_specimen_reports_the_residual_of_its_own_fit(tmp_path):
     data = ROOT / "experiments" / "data" / "cutblock"
     out = example("identify_specimen.py", "--data", str(data), "--set", "A",
                   "--material", "linear", "--element", "tet4", "--out", "fit",
-                  cwd=tmp_path)
+                  "--harness", str(HARNESS), cwd=tmp_path)
     assert (tmp_path / "fit" / "identify.json").is_file()
     e, nu = number(out, "E"), number(out, "nu")
     measured = np.loadtxt(data / "force_displacement_A.csv", delimiter=",", skiprows=1)

@@ -7,8 +7,7 @@ import subprocess
 import meshio
 import numpy as np
 
-from paths import ROOT, HARNESS
-
+from paths import HARNESS
 
 
 def test_fields_read_back_with_meshio(tmp_path):

@@ -14,7 +14,7 @@ from fmpy import extract, read_model_description, simulate_fmu
 from fmpy.fmi2 import FMU2Slave
 from fmpy.fmi3 import FMU3Slave
 
-from paths import ROOT, FMUS
+from paths import FMUS
 
 RUNS = {
     "cutblock": dict(parameters={"cells_x": 6.0, "cells_y": 4.0, "cells_z": 3.0},

@@ -18,7 +18,7 @@ from fmpy.fmi3 import FMU3Slave
 from fmpy.validation import validate_fmu
 from fmpy import extract
 
-from paths import ROOT, FMUS, HARNESS
+from paths import FMUS, HARNESS
 
 VERSIONS = ["fmi2", "fmi3"]
 SMALL_BLOCK = {"cells_x": 2.0, "cells_y": 4.0, "cells_z": 3.0}

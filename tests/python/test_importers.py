@@ -26,8 +26,7 @@ from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 from fmpy.fmi3 import FMU3Slave
 
-from paths import ROOT, FMUS, HARNESS
-
+from paths import FMUS, HARNESS
 
 
 class Scenario:

@@ -3,9 +3,10 @@
 //!
 //! Run: `cargo run --release -p fmu --bin bundle` (cargo builds the shared library of the
 //! `fmu` crate alongside this binary; the bundler takes it from the same folder), or
-//! `bundle --library PATH` with a library built elsewhere (`fmu/bundle.sh` passes the one
-//! built against glibc 2.28). `--out DIR` writes the archives there instead of `fmu/` beside
-//! the binary's profile folder.
+//! `bundle --library PATH` with a library built elsewhere. `--out DIR` writes the archives
+//! there instead of `fmu/` beside the binary's profile folder (`fmu/bundle.sh` and
+//! `tests/run.sh` run the bundler built against glibc 2.28, from
+//! `target/x86_64-unknown-linux-gnu/release/`, into `target/fmu/`).
 
 use std::path::PathBuf;
 use std::process::ExitCode;

@@ -51,8 +51,9 @@ pub fn command(
 
 /// Runs a shipped sweep ([`Experiment::shipped`]) into a subfolder of `report` and
 /// summarizes it there, with the plots of the parameters in `shown` inline. With `thin` =
-/// (samples, levels), its Latin hypercubes and grids cut to those
-/// ([`Experiment::thinned`]) into a folder of their own.
+/// (samples, levels), the quick report's version of it: its Latin hypercubes drawn anew
+/// with that many samples and its grids at that many levels ([`Experiment::thinned`]), into
+/// a folder of their own.
 pub fn shipped(
     report: &mut Report,
     name: &str,

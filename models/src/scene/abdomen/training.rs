@@ -245,6 +245,20 @@ mod tests {
     use super::*;
     use crate::scene::Values;
 
+    /// The training step is `max_step` where that is finer than a twentieth of the
+    /// training period, that twentieth where `max_step` is coarser.
+    #[test]
+    fn the_training_step_is_max_step_or_a_twentieth_of_the_period() {
+        let at = |frequency| Range {
+            press: 1.0,
+            frequency,
+        };
+        assert_eq!(step(at(5.0), 0.05), 0.01);
+        assert_eq!(step(at(5.0), 0.002), 0.002);
+        assert_eq!(step(at(0.5), 0.05), 0.05);
+        assert_eq!(step(at(50.0), 0.01), 0.001);
+    }
+
     /// The default abdomen on a coarse mesh (to keep a full basis small).
     fn coarse() -> Model {
         let mut values = Values::new(table());
