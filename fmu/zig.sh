@@ -1,9 +1,9 @@
-# Sourced by fmu/bundle.sh and tests/run.sh: zig (PyPI's
-# ziglang) and cargo-zigbuild, whose `zig cc` filters the arguments zig does not take, into
-# .venv; then cargo set to compile C and link for $ZIG_TARGET with fmu/zigcc.sh, against
-# glibc 2.28, so that the FMUs' library loads on Linux from glibc 2.28 on (RHEL 8, Debian 10,
-# Ubuntu 20.04 and later). Build with `--target "$ZIG_TARGET"`: the output goes to
-# target/$ZIG_TARGET/, apart from the plain host build's.
+# Sourced by fmu/bundle.sh and tests/run.sh: zig (PyPI's ziglang) and cargo-zigbuild, whose
+# `zig cc` filters the arguments zig does not take, into .venv; then cargo set to compile C
+# and link for $ZIG_TARGET with fmu/zigcc.sh, against glibc 2.28, so that the FMUs' library
+# loads on Linux from glibc 2.28 on (RHEL 8, Debian 10, Ubuntu 20.04 and later). Build with
+# `--target "$ZIG_TARGET"`: the output goes to target/$ZIG_TARGET/, apart from the plain
+# host build's.
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 if [ ! -x "$root/.venv/bin/python" ]; then
     python3 -m venv "$root/.venv"

@@ -4,8 +4,9 @@
 //! every output read after each step (once at the largest mesh, [`MESH_SIZES`]), and freed.
 //! Each case runs in a child process (this test binary run again for that one case): no
 //! case may abort, return fmi2Fatal or run past [`HANG`], and after an error the instance
-//! must still answer reads and refuse steps cleanly. What the model cannot take is refused by name (memory_limit, substeps,
-//! Newton increments); what it can take finishes in bounded work.
+//! must still answer reads and refuse steps cleanly. What the model cannot take is refused
+//! by name (memory_limit, substeps, Newton increments); what it can take finishes in
+//! bounded work.
 
 use std::ffi::CString;
 use std::process::Command;
