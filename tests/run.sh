@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone: formatting, lints, every Rust test in release
 # mode (run by cargo-nextest; `cargo test --workspace --all-features --release` runs the
-# same tests one binary at a time, built for this machine's glibc), then the packaged FMUs in three importers (fmpy,
-# libcosim, Ecos) and the Dask sweep runner (a Python venv in .venv is created on first use).
+# same tests one binary at a time, built for this machine's glibc), then the packaged FMUs
+# in three importers (fmpy, libcosim, Ecos) and the Dask sweep runner (a Python venv in
+# .venv is created on first use).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

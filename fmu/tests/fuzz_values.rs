@@ -3,8 +3,8 @@
 //! a wrong one) — an FMI 2 instance is set up with it, initialized, stepped three times with
 //! every output read after each step (once at the largest mesh, [`MESH_SIZES`]), and freed.
 //! Each case runs in a child process (this test binary run again for that one case): no
-//! case may abort, return fmi2Fatal or run past [`HANG`], and after an error the instance
-//! must still answer reads and refuse steps cleanly. What the model cannot take is refused
+//! case may abort or return fmi2Fatal, and after an error the instance must still answer
+//! reads and refuse steps cleanly. What the model cannot take is refused
 //! by name (memory_limit, substeps, Newton increments); what it can take finishes in
 //! bounded work.
 
@@ -83,10 +83,6 @@ const MESH_SIZES: [&str; 5] = [
     "cells_y",
     "cells_z",
 ];
-
-/// A case still running after this long is killed and fails: work without bound. (The
-/// slowest case took 72 s alone, 2026-11-27: a bound on waiting, not on speed.)
-const HANG: Duration = Duration::from_secs(600);
 
 /// A case: the model, its base setting, the variable, the value it gets and how many steps
 /// it takes.
@@ -260,9 +256,10 @@ fn every_declared_value_runs_or_is_refused() -> Result<(), libtest_mimic::Failed
             .unwrap();
         (index, child, Instant::now())
     };
-    // Two cases at a time (2 cores), each to its end or to HANG: a case passes by what its
-    // calls return (the slowest refusals build a 500,000-triangle mesh first); its time is
-    // printed.
+    // Two cases at a time (2 cores), each to its end: a case passes by what its calls
+    // return, whatever it takes (the slowest refusals build a 500,000-triangle mesh first);
+    // its time is printed, not judged (a case that never ends shows as the test nextest
+    // names slow).
     let mut pending = 0..all.len();
     let mut running: Vec<_> = pending.by_ref().take(2).map(spawn).collect();
     while !running.is_empty() {
@@ -273,14 +270,6 @@ fn every_declared_value_runs_or_is_refused() -> Result<(), libtest_mimic::Failed
             let case = &all[*index];
             let seconds = begun.elapsed().as_secs_f64();
             match child.try_wait().unwrap() {
-                None if begun.elapsed() > HANG => {
-                    child.kill().unwrap();
-                    let (_, mut child, _) = running.swap_remove(k);
-                    child.wait().unwrap();
-                    failures.push(format!("{case:?}: still running after {HANG:?}"));
-                    running.extend(pending.next().map(spawn));
-                    continue;
-                }
                 None => {
                     k += 1;
                     continue;

@@ -163,9 +163,9 @@ impl Experiment {
     }
 
     /// This experiment with each Latin hypercube drawn anew with at most `samples` points
-    /// (same ranges and seed) and each grid range at most `levels`, named `<name>_quick`: the quick report's version of a
-    /// long sweep (every design, fewer cases), its file written back as TOML so that its
-    /// folder holds what reproduces it.
+    /// (same ranges and seed) and each grid range at most `levels`, named `<name>_quick`:
+    /// the quick report's version of a long sweep (every design, fewer cases), its file
+    /// written back as TOML so that its folder holds what reproduces it.
     pub fn thinned(&self, samples: usize, levels: usize) -> Result<Self> {
         let mut file: toml::Table = toml::from_str(&self.source)?;
         file.insert("name".into(), format!("{}_quick", self.name).into());
