@@ -165,7 +165,7 @@ fn contact_step(bencher: Bencher) {
 }
 
 /// The default block with the full cut, pulled 0 → 10 mm in one step in the default load
-/// increments (`max_increment` = 2.5 mm): the finite-strain Newton solve (the set-up and the
+/// increments (`max_increment` = 5 mm): the finite-strain Newton solve (the set-up and the
 /// cut are outside the timing). Iterations and the assembly / factorization / solve split:
 /// `cargo run --release -p models --example cutblock_pull -- MATERIAL ELEMENT`.
 #[divan::bench(args = [("linear", "tet4"), ("neo-hookean", "tet4"), ("neo-hookean", "tet10")], sample_count = 5, sample_size = 1)]

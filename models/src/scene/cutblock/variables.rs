@@ -51,7 +51,7 @@ pub fn table() -> Vec<Variable> {
         memory_limit(),
         Variable::string("material", "neo-hookean", "`neo-hookean` (compressible, finite strain; the default: valid at the seed's 10 mm pull), `linear` (small strain, the fast path; warns beyond 5 % strain) or `stvk` (St. Venant-Kirchhoff, finite strain)"),
         Variable::string("element", "tet4", "`tet4` (linear tetrahedra) or `tet10` (quadratic tetrahedra: mid-edge nodes, 14-point quadrature)"),
-        Variable::parameter("max_increment", Tunable, "mm", 2.5, (1e-6, 1e3), "finite strain: largest change of the pull per Newton load increment (an increment that fails is halved)"),
+        Variable::parameter("max_increment", Tunable, "mm", 5.0, (1e-6, 1e3), "finite strain: largest change of the pull per Newton load increment (an increment that fails is halved)"),
         Variable::parameter("mesh_grading", Fixed, "1", 1.0, (1.0, 4.0), "β of the grading towards the cut plane, the crack front, the faces and the tip: the y and z layers of each side (face to cut plane or cut bottom, n layers) at the fractions ξ^β / (ξ^β + (1 − ξ)^β), ξ = i/n, x planes at the front ± L (k/n)^β (1: uniform; 2: the optimal rate of linear elements at the crack front)"),
         Variable::output("reaction_force", "N", 1, "y-reaction force on the pulled face y = L (y-internal force summed over the face)"),
         Variable::output("cut_opening", "mm", 1, "largest gap between facing flank nodes on the top surface"),
