@@ -613,7 +613,7 @@ impl Topology {
     /// back is a cycle and an error), then linearize the springs again where they hold
     /// ([`Self::settle`]; where that fails, the set's first answer stays). A load change
     /// that leaves the flanks through each other (beyond the contact's small-sliding range)
-    /// is retried from the last
+    /// or whose set of held nodes cycles or does not settle is retried from the last
     /// equilibrium in 2, 4, … up to `CONTACT_PARTS` equal parts, the springs updated after
     /// each. On error the last equilibrium stays.
     pub fn solve(
@@ -640,7 +640,11 @@ impl Topology {
         let (load, held) = (self.load, self.contact.as_ref().map(FlankContact::held));
         let mut result = self.settle(g, pull, press, scalpel_x);
         let mut parts = 2;
-        while matches!(result, Err(SceneError::Slid { .. })) && parts <= CONTACT_PARTS {
+        while matches!(
+            result,
+            Err(SceneError::Slid { .. } | SceneError::NotConverged { .. })
+        ) && parts <= CONTACT_PARTS
+        {
             self.back(Saved::Solve, g, load, &held, scalpel_x)?;
             result = (1..=parts).try_for_each(|k| {
                 let s = k as f64 / parts as f64;
