@@ -115,7 +115,7 @@ fn reference_table(report: &mut Report, reference: &Reference) -> Result<()> {
             " Made from the coarsest three instead (observed orders: reaction {c_reaction}, \
              lift {c_lift}) it differs by {:.3} % (reaction) and {:.3} % (lift; for an \
              output not extrapolated, at least its finest refinement's change): the \
-             reference's error estimate. The reaction converges at the order of tet10 \
+             reference's error estimate. The reaction's expected order is that of tet10 \
              graded towards an r^½ crack front, {REACTION_ORDER}: the y and z layers are also \
              graded towards the faces, so the edges where the face clamped at y = 0 meets the \
              free ones (u ~ r^λ, Williams' λ for a clamped–free right angle), which ungraded \
