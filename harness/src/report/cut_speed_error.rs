@@ -10,7 +10,7 @@ use super::plot::{self, Axis, Chart, Curve, Mark};
 use super::{Depth, Report};
 use crate::studies::cut_speed_error::{
     clamped_edge_order, errors, measure, write_csv, write_reference, Answer, Case, Reference,
-    Study, MIN_ORDER, REACTION_ORDER,
+    Study, MIN_ORDER, REACTION_ORDER, REFERENCE_CELLS,
 };
 use crate::studies::speed_error::pareto;
 
@@ -95,8 +95,10 @@ fn reference_table(report: &mut Report, reference: &Reference) -> Result<()> {
     .map(|(_, f, name)| format!("{:.2} % ({name})", 100.0 * f))
     .collect();
     let nu = CutBlock::new().get("nu")?;
+    let [cx, cy, cz] = REFERENCE_CELLS;
     let mut text = format!(
-        "Reference: neo-Hookean tet10 graded with β = 2, extrapolated by Richardson from \
+        "Reference: neo-Hookean tet10 graded with β = 2 on {cx} × {cy} × {cz} cubes × refine \
+         (the default cells with twice as many along x), extrapolated by Richardson from \
          its finest three meshes (f(h) = f∞ + C h^p, h ∝ 1/refine, the order observed; an \
          output whose three values converge at an order below {MIN_ORDER} keeps the finest \
          mesh's value). Observed orders: reaction {p_reaction}, bottom lift {p_lift}, \
@@ -131,7 +133,10 @@ fn reference_table(report: &mut Report, reference: &Reference) -> Result<()> {
         .iter()
         .map(|(m, a)| {
             vec![
-                format!("×{}", m.refine),
+                {
+                    let [x, y, z] = m.cells();
+                    format!("×{}: {x} × {y} × {z}", m.refine)
+                },
                 format!("{:.2}", a.seconds),
                 format!("{:.5}", a.reaction),
                 format!("{:.4}", a.bottom_lift),
