@@ -22,11 +22,12 @@ use super::verification::cutblock::solved;
 pub const CELLS: [f64; 3] = [6.0, 16.0, 14.0];
 
 /// The cells the reference's `refine` multiplies: the default's with twice the x cells.
-/// The default's x cells (100/6 mm) are 3 to 14 times as long as its y and z layers, and
-/// the bottom lift's error from x alone (0.7 % with 6 x cells, 0.1 % with 12, at the
-/// default y and z layers; 2026-11-28, scratch runs) converges at another rate than the
-/// error from y and z; mixed, they spoiled the observed orders (the lift's 1.09 on 1.5×,
-/// 2× and 2.5× of the default cells, 2.42 on 1×, 1.5× and 2×).
+/// The default's x cells (100/6 mm) are 3.3 and 14 times as long as its mean y and z layers
+/// (80/16 and 17/14 mm), and they carry an error of their own: at the default y and z
+/// layers, 6 → 12 → 24 x cells move the bottom lift by 0.57 % and 0.10 % (2026-11-28,
+/// scratch runs). It converges at another rate than the error from y and z; mixed, they
+/// spoiled the observed orders (the lift's 1.09 on 1.5×, 2× and 2.5× of the default cells,
+/// 2.42 on 1×, 1.5× and 2×).
 pub const REFERENCE_CELLS: [f64; 3] = [12.0, 16.0, 14.0];
 
 /// The order the reaction converges at where the crack front's error dominates (the
