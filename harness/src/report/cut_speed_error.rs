@@ -9,8 +9,8 @@ use models::scene::cutblock::CutBlock;
 use super::plot::{self, Axis, Chart, Curve, Mark};
 use super::{Depth, Report};
 use crate::studies::cut_speed_error::{
-    clamped_edge_order, errors, measure, write_csv, write_reference, Answer, Case, Reference,
-    Study, MIN_ORDER, REACTION_ORDER, REFERENCE_CELLS,
+    clamped_edge_order, cubes, errors, measure, write_csv, write_reference, Answer, Case,
+    Reference, Study, CELLS, MIN_ORDER, REACTION_ORDER, REFERENCE_CELLS,
 };
 use crate::studies::speed_error::pareto;
 
@@ -40,8 +40,8 @@ pub fn section(report: &mut Report, depth: Depth) -> Result<()> {
              reference again.",
         );
     }
-    report.text(
-        "Default block (6 × 16 × 14 cubes at ×1), full-width cut, 10 mm pull, E and ν at \
+    report.text(&format!(
+        "Default block ({} cubes at ×1), full-width cut, 10 mm pull, E and ν at \
          their defaults; β is `mesh_grading` (1: uniform, 2: layers growing linearly \
          away from the cut plane, the crack front and the faces, x cells away from the tip, \
          here the far face). Errors: relative for the reaction \
@@ -49,7 +49,8 @@ pub fn section(report: &mut Report, depth: Depth) -> Result<()> {
          (seed 002's acceptance: 1 mm). Run time: set-up, cut and pull, cases one after \
          another on this machine; the Pareto front uses the larger of the two relative \
          errors.",
-    );
+        cubes(CELLS)
+    ));
     reference_table(report, &reference)?;
     if depth == Depth::Full {
         let measured = format!(
@@ -95,10 +96,10 @@ fn reference_table(report: &mut Report, reference: &Reference) -> Result<()> {
     .map(|(_, f, name)| format!("{:.2} % ({name})", 100.0 * f))
     .collect();
     let nu = CutBlock::new().get("nu")?;
-    let [cx, cy, cz] = REFERENCE_CELLS;
+    let reference_cells = cubes(REFERENCE_CELLS);
     let mut text = format!(
-        "Reference: neo-Hookean tet10 graded with β = 2 on {cx} × {cy} × {cz} cubes × refine \
-         (the default cells with twice as many along x), extrapolated by Richardson from \
+        "Reference: neo-Hookean tet10 graded with β = 2 on {reference_cells} cubes × refine, \
+         extrapolated by Richardson from \
          its finest three meshes (f(h) = f∞ + C h^p, h ∝ 1/refine, the order observed; an \
          output whose three values converge at an order below {MIN_ORDER} keeps the finest \
          mesh's value). Observed orders: reaction {p_reaction}, bottom lift {p_lift}, \
@@ -133,10 +134,7 @@ fn reference_table(report: &mut Report, reference: &Reference) -> Result<()> {
         .iter()
         .map(|(m, a)| {
             vec![
-                {
-                    let [x, y, z] = m.cells();
-                    format!("×{}: {x} × {y} × {z}", m.refine)
-                },
+                format!("×{}: {}", m.refine, m.cubes()),
                 format!("{:.2}", a.seconds),
                 format!("{:.5}", a.reaction),
                 format!("{:.4}", a.bottom_lift),

@@ -94,15 +94,27 @@ impl Model {
     pub fn cells(&self) -> [f64; 3] {
         self.base.map(|c| c * self.refine)
     }
+
+    /// The mesh as "x × y × z" cubes.
+    pub fn cubes(&self) -> String {
+        cubes(self.cells())
+    }
+}
+
+/// Cells along x, y and z as "x × y × z".
+pub fn cubes([x, y, z]: [f64; 3]) -> String {
+    format!("{x} × {y} × {z}")
 }
 
 impl std::fmt::Display for Model {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let [x, y, z] = self.cells();
         write!(
             f,
-            "{} {} {x} × {y} × {z} cubes β = {}",
-            self.material, self.element, self.grading
+            "{} {} {} cubes β = {}",
+            self.material,
+            self.element,
+            self.cubes(),
+            self.grading
         )
     }
 }
