@@ -7,7 +7,9 @@ use std::sync::LazyLock;
 
 use divan::Bencher;
 use models::assembly::{plane, solid, Dirichlet};
-use models::solve::{Cholesky, Damping, Factorization, IntegratorKind, Statics, Structure};
+use models::solve::{
+    Cholesky, Damping, Factorization, IntegratorKind, Ordering, Statics, Structure,
+};
 use models::verify::problems::{self, Assembled, BlockProblem, PlaneProblem};
 
 fn main() {
@@ -62,13 +64,13 @@ mod plane2d {
         bencher.bench_local(|| plane::mass(&p.mesh, &a.asm, &p.props, &mut m));
     }
 
-    #[divan::bench(args = [Factorization::Simplicial, Factorization::Supernodal])]
+    #[divan::bench(args = [Factorization::Simplicial, Factorization::Supernodal(Ordering::NestedDissection)])]
     fn symbolic_factorization(bencher: Bencher, factorization: Factorization) {
         let s = plane_structure(factorization);
         bencher.bench(|| s.analyze().unwrap());
     }
 
-    #[divan::bench(args = [Factorization::Simplicial, Factorization::Supernodal])]
+    #[divan::bench(args = [Factorization::Simplicial, Factorization::Supernodal(Ordering::NestedDissection)])]
     fn houbolt_prepare(bencher: Bencher, factorization: Factorization) {
         let s = plane_structure(factorization);
         let mut h = IntegratorKind::Houbolt.create();
@@ -78,7 +80,7 @@ mod plane2d {
         bencher.bench_local(|| h.prepare(&s, 1e-3).unwrap());
     }
 
-    #[divan::bench(args = [Factorization::Simplicial, Factorization::Supernodal])]
+    #[divan::bench(args = [Factorization::Simplicial, Factorization::Supernodal(Ordering::NestedDissection)])]
     fn houbolt_step(bencher: Bencher, factorization: Factorization) {
         let s = plane_structure(factorization);
         let mut h = IntegratorKind::Houbolt.create();
@@ -113,14 +115,14 @@ mod block3d {
         bencher.bench_local(|| solid::stiffness(&p.mesh, &a.asm, &p.material, &mut k));
     }
 
-    #[divan::bench(args = [Factorization::Simplicial, Factorization::Supernodal])]
+    #[divan::bench(args = [Factorization::Simplicial, Factorization::Supernodal(Ordering::NestedDissection)])]
     fn symbolic_factorization(bencher: Bencher, factorization: Factorization) {
         let (p, a) = &*BLOCK;
         let bc = Dirichlet::new(&a.asm, &p.fixed).unwrap();
         bencher.bench(|| Cholesky::analyze(bc.symbolic().as_ref(), factorization).unwrap());
     }
 
-    #[divan::bench(args = [Factorization::Simplicial, Factorization::Supernodal])]
+    #[divan::bench(args = [Factorization::Simplicial, Factorization::Supernodal(Ordering::NestedDissection)])]
     fn numeric_factorization(bencher: Bencher, factorization: Factorization) {
         let (p, a) = &*BLOCK;
         let mut statics = Statics::new(&a.asm, &p.fixed, factorization).unwrap();
@@ -130,7 +132,12 @@ mod block3d {
     #[divan::bench]
     fn solve(bencher: Bencher) {
         let (p, a) = &*BLOCK;
-        let mut statics = Statics::new(&a.asm, &p.fixed, Factorization::Supernodal).unwrap();
+        let mut statics = Statics::new(
+            &a.asm,
+            &p.fixed,
+            Factorization::Supernodal(Ordering::NestedDissection),
+        )
+        .unwrap();
         statics.factorize(&a.k).unwrap();
         let f = vec![0.0; p.mesh.n_dofs()];
         let mut u = p.prescribed.clone();
@@ -142,7 +149,12 @@ mod block3d {
     #[divan::bench]
     fn static_total(bencher: Bencher) {
         let (p, a) = &*BLOCK;
-        let mut statics = Statics::new(&a.asm, &p.fixed, Factorization::Supernodal).unwrap();
+        let mut statics = Statics::new(
+            &a.asm,
+            &p.fixed,
+            Factorization::Supernodal(Ordering::NestedDissection),
+        )
+        .unwrap();
         let mut k = a.asm.zeros();
         let f = vec![0.0; p.mesh.n_dofs()];
         let mut u = p.prescribed.clone();

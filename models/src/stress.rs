@@ -51,6 +51,27 @@ pub fn mises(s: &Matrix3<f64>) -> f64 {
     (1.5 * dev.norm_squared()).sqrt()
 }
 
+/// An upper bound of the largest eigenvalue of a symmetric 3 × 3 matrix: tr/3 + √(2/3) ‖dev‖
+/// (a traceless symmetric matrix of Frobenius norm N has no eigenvalue above √(2/3) N,
+/// reached when the other two are equal).
+pub fn largest_eigenvalue_bound(s: &Matrix3<f64>) -> f64 {
+    let mean = s.trace() / 3.0;
+    let dev = s - Matrix3::identity() * mean;
+    mean + (2.0 / 3.0 * dev.norm_squared()).sqrt()
+}
+
+/// The largest eigenvalue over symmetric 3 × 3 matrices (−∞ for none), decomposing only
+/// those whose [`largest_eigenvalue_bound`] exceeds the largest found so far.
+pub fn largest_eigenvalue(matrices: impl IntoIterator<Item = Matrix3<f64>>) -> f64 {
+    matrices.into_iter().fold(f64::NEG_INFINITY, |largest, s| {
+        if largest_eigenvalue_bound(&s) > largest {
+            largest.max(s.symmetric_eigenvalues().max())
+        } else {
+            largest
+        }
+    })
+}
+
 /// Plane-strain stress of a triangle (MPa). σ_zz = λ(ε_xx + ε_yy) keeps ε_zz = 0.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct PlaneStress {
@@ -279,6 +300,25 @@ mod tests {
         assert!((vm - 3f64.sqrt() * tau).abs() < 1e-14);
         // Hydrostatic stress has no von Mises part.
         assert!(von_mises(&Vector6::new(5.0, 5.0, 5.0, 0.0, 0.0, 0.0)).abs() < 1e-14);
+    }
+
+    /// The bound is reached by diag(a, b, b) and holds for rotated matrices; the search
+    /// finds the largest eigenvalue of a set, compressive ones included.
+    #[test]
+    fn the_largest_eigenvalue_is_bounded_and_found() {
+        let d = Matrix3::from_diagonal(&nalgebra::Vector3::new(0.3, -0.1, -0.1));
+        assert!((largest_eigenvalue_bound(&d) - 0.3).abs() < 1e-15);
+        let r = nalgebra::Rotation3::from_euler_angles(0.3, -0.7, 1.1).into_inner();
+        let set: Vec<Matrix3<f64>> = [[0.2, 0.05, -0.4], [-0.3, -0.2, -0.25], [0.1, 0.25, 0.0]]
+            .iter()
+            .map(|v| r * Matrix3::from_diagonal(&nalgebra::Vector3::from(*v)) * r.transpose())
+            .collect();
+        for (s, largest) in set.iter().zip([0.2, -0.2, 0.25]) {
+            assert!(largest_eigenvalue_bound(s) >= largest - 1e-15);
+        }
+        assert!((largest_eigenvalue(set.clone()) - 0.25).abs() < 1e-14);
+        assert!((largest_eigenvalue(set[1..2].to_vec()) + 0.2).abs() < 1e-14);
+        assert_eq!(largest_eigenvalue([]), f64::NEG_INFINITY);
     }
 
     #[test]

@@ -6,7 +6,7 @@ use models::assembly::{solid, Assembler};
 use models::element::tri6::Formulation;
 use models::element::{tet4, Elastic};
 use models::mesh::generate;
-use models::solve::{Factorization, Statics};
+use models::solve::{Factorization, Ordering, Statics};
 use models::verify::lame::Lame;
 use models::verify::richardson;
 use nalgebra::{Matrix3, Vector3};
@@ -198,7 +198,12 @@ fn tet4_manufactured_solution_converges_at_rate_two() {
                 }
             }
         }
-        let mut statics = Statics::new(&asm, &fixed, Factorization::Supernodal).unwrap();
+        let mut statics = Statics::new(
+            &asm,
+            &fixed,
+            Factorization::Supernodal(Ordering::NestedDissection),
+        )
+        .unwrap();
         statics.factorize(&k).unwrap();
         statics.solve(asm.matrix(&k), &f, &mut u);
         // Degree-2 rule for tetrahedra: 4 points, weight V/4.

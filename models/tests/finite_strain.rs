@@ -8,7 +8,7 @@ use models::element::{Elastic, Law, Material};
 use models::error::ModelError;
 use models::mesh::generate;
 use models::solve::newton::{Newton, Report, Settings};
-use models::solve::Factorization;
+use models::solve::{Factorization, Ordering};
 
 const SIZE: [f64; 3] = [2.0, 3.0, 1.5];
 const E: f64 = 0.05;
@@ -114,8 +114,13 @@ fn uniaxial_stretch_matches_the_closed_form_for_both_tetrahedra_and_laws() {
                     max_increment: 0.2,
                     ..Settings::default()
                 };
-                let mut newton =
-                    Newton::new(&asm, &fixed, Factorization::Supernodal, settings).unwrap();
+                let mut newton = Newton::new(
+                    &asm,
+                    &fixed,
+                    Factorization::Supernodal(Ordering::NestedDissection),
+                    settings,
+                )
+                .unwrap();
                 let mut u = vec![0.0; solid.n_dofs()];
                 pull(&mut newton, &solid, &asm, &mut u, &prescribed).unwrap();
                 let force: f64 = pulled
@@ -150,8 +155,13 @@ fn a_rigid_rotation_is_stress_free_at_finite_strain_only() {
             .iter()
             .flat_map(|n| [3 * n, 3 * n + 1, 3 * n + 2])
             .collect();
-        let mut newton =
-            Newton::new(&asm, &fixed, Factorization::Supernodal, Settings::default()).unwrap();
+        let mut newton = Newton::new(
+            &asm,
+            &fixed,
+            Factorization::Supernodal(Ordering::NestedDissection),
+            Settings::default(),
+        )
+        .unwrap();
         let mut u = vec![0.0; solid.n_dofs()];
         let mut prescribed = vec![0.0; solid.n_dofs()];
         for step in 1..=10 {
@@ -195,7 +205,13 @@ fn newton_converges_quadratically() {
         reuse_contraction: 0.0,
         ..Settings::default()
     };
-    let mut newton = Newton::new(&asm, &fixed, Factorization::Supernodal, settings).unwrap();
+    let mut newton = Newton::new(
+        &asm,
+        &fixed,
+        Factorization::Supernodal(Ordering::NestedDissection),
+        settings,
+    )
+    .unwrap();
     let mut u = vec![0.0; solid.n_dofs()];
     let report = pull(&mut newton, &solid, &asm, &mut u, &prescribed)
         .unwrap()
@@ -214,8 +230,13 @@ fn newton_converges_quadratically() {
 fn a_failed_solve_names_the_load_reached_and_keeps_the_state() {
     let (solid, asm) = block(Tetrahedron::Tet4, Law::StVenantKirchhoff);
     let (fixed, mut prescribed, pulled) = sliding(&solid, 0.1 * SIZE[1]);
-    let mut newton =
-        Newton::new(&asm, &fixed, Factorization::Supernodal, Settings::default()).unwrap();
+    let mut newton = Newton::new(
+        &asm,
+        &fixed,
+        Factorization::Supernodal(Ordering::NestedDissection),
+        Settings::default(),
+    )
+    .unwrap();
     let mut u = vec![0.0; solid.n_dofs()];
     let zero = vec![0.0; solid.n_dofs()];
     let mut body = Body {
@@ -259,7 +280,13 @@ fn a_kept_factorization_reaches_the_same_equilibrium_with_fewer_factorizations()
             reuse_contraction,
             ..Settings::default()
         };
-        let mut newton = Newton::new(&asm, &fixed, Factorization::Supernodal, settings).unwrap();
+        let mut newton = Newton::new(
+            &asm,
+            &fixed,
+            Factorization::Supernodal(Ordering::NestedDissection),
+            settings,
+        )
+        .unwrap();
         let mut u = vec![0.0; solid.n_dofs()];
         let mut body = Body {
             solid: &solid,

@@ -9,7 +9,7 @@ use std::cell::Cell;
 use models::assembly::Dirichlet;
 use models::scene::abdomen::Abdomen;
 use models::scene::{Causality, Scene};
-use models::solve::{Damping, Factorization, IntegratorKind, Statics, Structure};
+use models::solve::{Damping, Factorization, IntegratorKind, Ordering, Statics, Structure};
 use models::verify::problems;
 
 struct Counting;
@@ -98,7 +98,12 @@ fn integrator_steps_allocate_nothing() {
 fn static_resolve_allocates_nothing() {
     let p = problems::block([3, 4, 3], 1.0).unwrap();
     let models::verify::problems::Assembled { asm, k, .. } = p.assemble();
-    let mut statics = Statics::new(&asm, &p.fixed, Factorization::Supernodal).unwrap();
+    let mut statics = Statics::new(
+        &asm,
+        &p.fixed,
+        Factorization::Supernodal(Ordering::NestedDissection),
+    )
+    .unwrap();
     statics.factorize(&k).unwrap();
     let f = vec![0.0; p.mesh.n_dofs()];
     let mut u = p.prescribed.clone();
@@ -210,7 +215,13 @@ fn newton_iterations_allocate_nothing() {
             reuse_contraction,
             ..Settings::default()
         };
-        let mut newton = Newton::new(&asm, &fixed, Factorization::Supernodal, settings).unwrap();
+        let mut newton = Newton::new(
+            &asm,
+            &fixed,
+            Factorization::Supernodal(Ordering::NestedDissection),
+            settings,
+        )
+        .unwrap();
         let mut u = vec![0.0; solid.n_dofs()];
         let first = pull_to(&mut newton, &mut u, 0.6);
         let mut iterations = 0;

@@ -6,7 +6,7 @@ use models::assembly::plane::{self, Continuum, PlaneProperties, Truss};
 use models::assembly::{solid, Assembler};
 use models::element::Elastic;
 use models::mesh::{generate, Mesh2d};
-use models::solve::{statics::reactions, Factorization, Statics};
+use models::solve::{statics::reactions, Factorization, Ordering, Statics};
 use models::stress;
 
 mod common;
@@ -146,7 +146,12 @@ fn tet4_patch_test_on_an_irregular_mesh() {
             u[3 * n + d] = ue[d];
         }
     }
-    let mut statics = Statics::new(&asm, &fixed, Factorization::Supernodal).unwrap();
+    let mut statics = Statics::new(
+        &asm,
+        &fixed,
+        Factorization::Supernodal(Ordering::NestedDissection),
+    )
+    .unwrap();
     statics.factorize(&k).unwrap();
     statics.solve(asm.matrix(&k), &vec![0.0; mesh.n_dofs()], &mut u);
     let worst = (0..mesh.nodes().len())

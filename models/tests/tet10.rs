@@ -13,7 +13,7 @@ use models::element::{tet10, tet4, Elastic, Law, Material};
 use models::mesh::generate::{self, Split};
 use models::mesh::{Mesh3d, QuadraticMesh};
 use models::solve::newton::{Equations, Newton, Settings};
-use models::solve::Factorization;
+use models::solve::{Factorization, Ordering};
 
 mod common;
 use common::{irregular_block, jitter};
@@ -35,7 +35,13 @@ fn solve(
         max_increment: 1.0,
         ..Settings::default()
     };
-    let mut newton = Newton::new(&asm, fixed, Factorization::Supernodal, settings).unwrap();
+    let mut newton = Newton::new(
+        &asm,
+        fixed,
+        Factorization::Supernodal(Ordering::NestedDissection),
+        settings,
+    )
+    .unwrap();
     let mut u = vec![0.0; solid.n_dofs()];
     let mut body = Body { solid, asm: &asm };
     newton

@@ -1,8 +1,8 @@
 //! Sparse Cholesky factorization (faer, 32-bit indices) with a fill-reducing ordering: faer's
-//! AMD for the simplicial storage (2D systems whose factor serves many solves), nested
-//! dissection (METIS, [`super::ordering`]) for the supernodal one (3D meshes, and 2D systems
-//! refactorized often or large: [`Factorization::plane`]). The simplicial factor is solved by the project's own
-//! sweeps ([`super::sweeps`]), the supernodal one by faer. The symbolic analysis is done once
+//! AMD for the simplicial storage (2D systems whose factor serves many solves); for the
+//! supernodal one (3D meshes, and 2D systems refactorized often or large:
+//! [`Factorization::plane`]) nested dissection (METIS, [`super::ordering`]) or AMD, as the
+//! caller asks ([`Ordering`]). The simplicial factor is solved by the project's own sweeps ([`super::sweeps`]), the supernodal one by faer. The symbolic analysis is done once
 //! per pattern; numeric refactorization and solves reuse it and the preallocated workspace,
 //! so a solve allocates nothing.
 //!
@@ -53,17 +53,35 @@ const SINGLE_PIVOT_RATIO_TOL: f64 = 1e-4;
 const PARALLEL_VALUES: usize = 1 << 20;
 
 /// How faer stores the Cholesky factor, and with it the ordering. Simplicial (AMD) is faster
-/// per solve for 2D meshes; supernodal (nested dissection) is much faster to factorize for
-/// 3D meshes and for large 2D ones (measured; see BENCHMARKS.md).
+/// per solve for 2D meshes; supernodal is much faster to factorize for 3D meshes and for
+/// large 2D ones (measured; see BENCHMARKS.md), with the ordering given.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Factorization {
     #[default]
     Simplicial,
-    Supernodal,
+    Supernodal(Ordering),
     /// Supernodal, the numeric factor in single precision where its pivots pass the check
     /// (solves then carry errors of order 1e-7 relative times the conditioning): for the
     /// factors Newton's iterations reuse.
-    SupernodalSingle,
+    SupernodalSingle(Ordering),
+}
+
+/// The fill-reducing ordering of a supernodal factorization. Which is faster depends on the
+/// mesh: on the cut block (cubes of 6 tetrahedra) the linear tetrahedra factorize faster
+/// after AMD, the quadratic ones after nested dissection. Measured (2026-11-28, a scratch
+/// program of the uniform block cut to 57 mm, the f64 factorization of its linear
+/// stiffness, medians of 40 or more, alternating runs): tet4 on 7 × 16 × 14 cubes (6,204
+/// equations) 0.93 M factor entries and 11–20 ms after AMD against 1.07 M and 17–36 ms after
+/// nested dissection; on twice the cells (43,401) 19.9 M entries either way, 470–590 ms
+/// against 570–670 ms. Tet10 on the default cells (the blade advanced at a 10 mm pull, five
+/// 0.5 mm steps, one run each): 9.5 s of factorizations after AMD against 5.1 s.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Ordering {
+    /// Nested dissection (METIS, [`super::ordering`]).
+    #[default]
+    NestedDissection,
+    /// faer's approximate minimum degree.
+    MinimumDegree,
 }
 
 /// 2D systems of more equations than this are factorized supernodally even where one factor
@@ -83,7 +101,7 @@ impl Factorization {
         if reused && equations <= PLANE_SIMPLICIAL_LIMIT {
             Self::Simplicial
         } else {
-            Self::Supernodal
+            Self::Supernodal(Ordering::NestedDissection)
         }
     }
 }
@@ -145,10 +163,12 @@ impl Cholesky {
         factorization: Factorization,
     ) -> Result<Self, ModelError> {
         let narrow = narrow(pattern)?;
-        let threshold = match factorization {
-            Factorization::Simplicial => SupernodalThreshold::FORCE_SIMPLICIAL,
-            Factorization::Supernodal | Factorization::SupernodalSingle => {
-                SupernodalThreshold::FORCE_SUPERNODAL
+        let (threshold, ordering) = match factorization {
+            Factorization::Simplicial => {
+                (SupernodalThreshold::FORCE_SIMPLICIAL, Ordering::default())
+            }
+            Factorization::Supernodal(o) | Factorization::SupernodalSingle(o) => {
+                (SupernodalThreshold::FORCE_SUPERNODAL, o)
             }
         };
         let params = CholeskySymbolicParams {
@@ -156,9 +176,9 @@ impl Cholesky {
             ..Default::default()
         };
         let (fwd, inv);
-        let ordering = match factorization {
-            Factorization::Simplicial => SymmetricOrdering::Amd,
-            Factorization::Supernodal | Factorization::SupernodalSingle => {
+        let ordering = match (factorization, ordering) {
+            (Factorization::Simplicial, _) | (_, Ordering::MinimumDegree) => SymmetricOrdering::Amd,
+            (_, Ordering::NestedDissection) => {
                 let nd = ordering::nested_dissection(pattern)?;
                 let mut i = vec![0; nd.len()];
                 for (k, &p) in nd.iter().enumerate() {
@@ -185,7 +205,7 @@ impl Cholesky {
             pattern: narrow,
             perm_fwd,
             par,
-            single: factorization == Factorization::SupernodalSingle,
+            single: matches!(factorization, Factorization::SupernodalSingle(_)),
         }))
     }
 
@@ -525,8 +545,12 @@ mod tests {
     }
 
     #[test]
-    fn solves_a_grounded_chain_in_both_layouts() {
-        for factorization in [Factorization::Simplicial, Factorization::Supernodal] {
+    fn solves_a_grounded_chain_in_both_layouts_and_orderings() {
+        for factorization in [
+            Factorization::Simplicial,
+            Factorization::Supernodal(Ordering::NestedDissection),
+            Factorization::Supernodal(Ordering::MinimumDegree),
+        ] {
             let (asm, mut v) = chain(50, 3.0);
             // Ground node 0 with a spring of the same stiffness.
             let d0 = crate::assembly::slot(asm.symbolic(), 0, 0);
@@ -557,8 +581,11 @@ mod tests {
     fn single_precision_solves_to_its_accuracy_and_double_on_request() {
         let (asm, mut v) = chain(50, 3.0);
         v[crate::assembly::slot(asm.symbolic(), 0, 0)] += 3.0;
-        let mut chol =
-            Cholesky::analyze(asm.symbolic().as_ref(), Factorization::SupernodalSingle).unwrap();
+        let mut chol = Cholesky::analyze(
+            asm.symbolic().as_ref(),
+            Factorization::SupernodalSingle(Ordering::MinimumDegree),
+        )
+        .unwrap();
         let error = |chol: &mut Cholesky| {
             let mut x = vec![0.0; 50];
             x[49] = 1.0;
@@ -594,9 +621,11 @@ mod tests {
                 asm.add(&mut v, e, &(spring * ke));
             }
             v[crate::assembly::slot(asm.symbolic(), 0, 0)] += k;
-            let mut chol =
-                Cholesky::analyze(asm.symbolic().as_ref(), Factorization::SupernodalSingle)
-                    .unwrap();
+            let mut chol = Cholesky::analyze(
+                asm.symbolic().as_ref(),
+                Factorization::SupernodalSingle(Ordering::NestedDissection),
+            )
+            .unwrap();
             chol.factorize(asm.matrix(&v)).unwrap();
             assert!(!chol.in_single(), "stiff {stiff}, k {k}");
             // Unit load at the free end: the springs in series, 1/k + 1/(stiff k) + (n − 2)/k
@@ -615,8 +644,10 @@ mod tests {
     fn floating_chain_is_singular_in_every_layout() {
         for factorization in [
             Factorization::Simplicial,
-            Factorization::Supernodal,
-            Factorization::SupernodalSingle,
+            Factorization::Supernodal(Ordering::NestedDissection),
+            Factorization::SupernodalSingle(Ordering::NestedDissection),
+            Factorization::Supernodal(Ordering::MinimumDegree),
+            Factorization::SupernodalSingle(Ordering::MinimumDegree),
         ] {
             let (asm, v) = chain(40, 7.0);
             let mut chol = Cholesky::analyze(asm.symbolic().as_ref(), factorization).unwrap();

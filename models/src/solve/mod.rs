@@ -26,7 +26,7 @@ mod sweeps;
 pub(crate) mod vector_state;
 
 pub use central_difference::CentralDifference;
-pub use cholesky::{Cholesky, Factorization};
+pub use cholesky::{Cholesky, Factorization, Ordering};
 pub use houbolt::Houbolt;
 pub use indicator::{Indicator, Motion};
 pub use integrator::{Checkpoint, Integrator, IntegratorKind, Load, State};

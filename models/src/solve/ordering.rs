@@ -1,9 +1,12 @@
 //! Fill-reducing ordering by nested dissection (METIS `METIS_NodeND`, vendored by the
-//! `metis-sys` crate) for the supernodal Cholesky factorization (3D meshes and the 2D systems
-//! of [`super::Factorization::plane`]). Measured on
+//! `metis-sys` crate) for the supernodal Cholesky factorization that asks for it
+//! ([`super::cholesky::Ordering`]: the 2D systems of [`super::Factorization::plane`], the
+//! quadratic tetrahedra of the cut block). Measured on
 //! the cut block (6 × 16 × 14 cubes, one noisy run each, 2026-11-25, when METIS was given
 //! one vertex per equation): tet4 factor 0.73 M entries and 9.5 ms against 0.78 M and
-//! 14.8 ms with faer's AMD; tet10 14.1 M entries and 0.42–0.53 s against 15.4 M and 0.65 s.
+//! 14.8 ms with faer's AMD; tet10 14.1 M entries and 0.42–0.53 s against 15.4 M and 0.65 s
+//! (cubes of 5 tetrahedra then; on today's cubes of 6, split along x, AMD is the faster for
+//! tet4, [`super::cholesky::Ordering`]).
 //!
 //! METIS is given one vertex per node ([`groups`]). It would find the same graph itself
 //! (its `compress` option, on by default for `METIS_NodeND`, merges vertices with equal

@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 use anyhow::Result;
 use models::assembly::{plane, solid};
 use models::element::Elastic;
-use models::solve::{Damping, Factorization, IntegratorKind, Statics};
+use models::solve::{Damping, Factorization, IntegratorKind, Ordering, Statics};
 use models::verify::{lame::Lame, oscillator, problems};
 
 /// Prints the three tables.
@@ -173,7 +173,11 @@ fn timings(out: &mut String) -> Result<()> {
             solid::stiffness(&b.mesh, &ba.asm, &b.material, &mut k)
         }),
     )?;
-    let mut statics = Statics::new(&ba.asm, &b.fixed, Factorization::Supernodal)?;
+    let mut statics = Statics::new(
+        &ba.asm,
+        &b.fixed,
+        Factorization::Supernodal(Ordering::NestedDissection),
+    )?;
     row(
         out,
         "numeric factorization (supernodal)",

@@ -131,10 +131,7 @@ fn x_contraction(g: &Geometry, t: &Topology) -> f64 {
 /// centroids ([`stress::solid_centroids`]).
 fn stress_and_strain(t: &Topology) -> (f64, f64) {
     let centroids = stress::solid_centroids(&t.solid, &t.u);
-    let largest = centroids
-        .iter()
-        .map(|c| c.strain.symmetric_eigenvalues().max())
-        .fold(f64::NEG_INFINITY, f64::max);
+    let largest = stress::largest_eigenvalue(centroids.iter().map(|c| c.strain));
     let von_mises: Vec<f64> = centroids.iter().map(|c| stress::mises(&c.stress)).collect();
     let volume: Vec<f64> = centroids.iter().map(|c| c.volume).collect();
     let corners: Vec<[usize; 4]> = (0..t.solid.len()).map(|e| t.solid.corners(e)).collect();
@@ -145,17 +142,16 @@ fn stress_and_strain(t: &Topology) -> (f64, f64) {
 }
 
 /// Whether the largest principal strain of the linear law (ε = sym(F − I) at the element
-/// centroids) exceeds `limit`, and the strain if it does. The Frobenius norm bounds every
-/// eigenvalue, so only elements whose norm reaches the limit are decomposed.
+/// centroids) exceeds `limit`, and the strain if it does: only the elements whose bound
+/// ([`stress::largest_eigenvalue_bound`]) exceeds the limit are looked at.
 pub fn strain_beyond(t: &Topology, limit: f64) -> Option<f64> {
-    t.solid
+    let strains = t
+        .solid
         .centroids(&t.u)
-        .iter()
+        .into_iter()
         .map(|(f, _)| 0.5 * (f + f.transpose()) - nalgebra::Matrix3::identity())
-        .filter(|e| e.norm() > limit)
-        .map(|e| e.symmetric_eigenvalues().max())
-        .filter(|&largest| largest > limit)
-        .reduce(f64::max)
+        .filter(|e| stress::largest_eigenvalue_bound(e) > limit);
+    Some(stress::largest_eigenvalue(strains)).filter(|&largest| largest > limit)
 }
 
 #[cfg(test)]
