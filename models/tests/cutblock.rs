@@ -637,6 +637,33 @@ fn a_press_whose_contact_set_cycles_at_once_converges_in_parts() {
     );
 }
 
+/// A press on closed flanks says once per run that its answer may depend on the loading
+/// history (one step or two end apart there, docs/theory/cutblock.md); a press on open
+/// flanks and flanks closed without a press do not.
+#[test]
+fn a_press_on_closed_flanks_warns_once_that_its_answer_may_depend_on_the_history() {
+    let mut s = neo_hookean(&[]);
+    let press_warnings = |s: &mut CutBlock| {
+        s.take_warnings()
+            .iter()
+            .filter(|w| w.contains("acts on closed flanks"))
+            .count()
+    };
+    step(
+        &mut s,
+        &[("scalpel_x", 100.0), ("pull", 5.0), ("press_force", 0.25)],
+    );
+    assert_eq!(get(&mut s, "contact_points"), 0.0, "open flanks");
+    assert_eq!(press_warnings(&mut s), 0);
+    step(&mut s, &[("pull", -2.0), ("press_force", 0.0)]);
+    assert!(get(&mut s, "contact_points") > 0.0, "closed flanks");
+    assert_eq!(press_warnings(&mut s), 0);
+    step(&mut s, &[("press_force", 0.25)]);
+    assert_eq!(press_warnings(&mut s), 1);
+    step(&mut s, &[("press_force", 0.3)]);
+    assert_eq!(press_warnings(&mut s), 0, "once per run");
+}
+
 /// A pull change that would take more than `MAX_INCREMENTS` Newton load increments is
 /// refused before any work, naming `max_increment` and the change, and the scene stays
 /// usable: the declared minimum `max_increment` = 1e-6 mm with a 1 mm pull (10⁶
