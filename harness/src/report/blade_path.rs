@@ -8,6 +8,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use super::plot::{self, Axis, Chart, Curve, Mark};
 use super::{Depth, Report};
 use crate::studies::blade_path::{run, write_csv, Crossing, Study};
+use crate::studies::cut_speed_error::{cubes, CELLS};
 
 /// Adds the section to `report`: 1 mm steps, or 20 mm at [`Depth::Quick`].
 pub fn section(report: &mut Report, depth: Depth) -> Result<()> {
@@ -32,7 +33,7 @@ pub fn section(report: &mut Report, depth: Depth) -> Result<()> {
     report.heading("Reaction against the blade, 1× and 2× cells");
     report.text(&format!(
         "The default cut block (neo-Hookean tet4) pulled {} mm while the blade crosses it in \
-         {} mm steps, on the default 6 × 16 × 14 cubes and on twice as many in each \
+         {} mm steps, on the default {} cubes and on twice as many in each \
          direction. The crack front is a node plane at the blade, so the outputs change \
          smoothly with it; the last step cuts the ligament left at the far face, which a \
          cell at the tip does not resolve (it shrinks under refinement). Largest change of \
@@ -41,6 +42,7 @@ pub fn section(report: &mut Report, depth: Depth) -> Result<()> {
          blade position.",
         study.pull,
         study.step,
+        cubes(CELLS),
         coarse.largest_over_mean(),
         fine.largest_over_mean(),
         coarse.seconds,

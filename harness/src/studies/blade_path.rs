@@ -8,6 +8,8 @@ use anyhow::{ensure, Context, Result};
 use models::scene::cutblock::CutBlock;
 use models::scene::Scene;
 
+use super::cut_speed_error::CELLS;
+
 /// The study: the block pulled `pull` mm with the default law, the blade advanced from 0
 /// to 100 mm in `step` mm steps, on the default cells times each of `refine`.
 #[derive(Debug, Clone)]
@@ -89,7 +91,7 @@ pub fn run(study: &Study, progress: &dyn Fn(usize, usize)) -> Result<Vec<Crossin
         .map(|&refine| {
             let start = std::time::Instant::now();
             let mut s = CutBlock::new();
-            for (name, cells) in [("cells_x", 6.0), ("cells_y", 16.0), ("cells_z", 14.0)] {
+            for (name, cells) in ["cells_x", "cells_y", "cells_z"].into_iter().zip(CELLS) {
                 s.set(name, cells * refine)?;
             }
             s.initialize(0.0)?;
