@@ -661,6 +661,7 @@ fn a_press_on_closed_flanks_warns_once_that_its_answer_may_depend_on_the_history
     step(&mut s, &[("press_force", 0.25)]);
     assert_eq!(press_warnings(&mut s), 1);
     step(&mut s, &[("press_force", 0.3)]);
+    assert!(get(&mut s, "contact_points") > 0.0, "still closed");
     assert_eq!(press_warnings(&mut s), 0, "once per run");
 }
 

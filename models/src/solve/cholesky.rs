@@ -52,9 +52,9 @@ const SINGLE_PIVOT_RATIO_TOL: f64 = 1e-4;
 /// (the dense supernode updates parallelize; smaller factors would only pay the overhead).
 const PARALLEL_VALUES: usize = 1 << 20;
 
-/// How faer stores the Cholesky factor, and with it the ordering. Simplicial (AMD) is faster
-/// per solve for 2D meshes; supernodal is much faster to factorize for 3D meshes and for
-/// large 2D ones (measured; see BENCHMARKS.md), with the ordering given.
+/// How faer stores the Cholesky factor: simplicial, ordered by AMD, is faster per solve for
+/// 2D meshes; supernodal, with the [`Ordering`] it carries, is much faster to factorize for
+/// 3D meshes and for large 2D ones (measured; see BENCHMARKS.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Factorization {
     #[default]
@@ -70,15 +70,14 @@ pub enum Factorization {
 /// mesh: on the cut block (cubes of 6 tetrahedra) the linear tetrahedra factorize faster
 /// after AMD, the quadratic ones after nested dissection. Measured (2026-11-28, a scratch
 /// program of the uniform block cut to 57 mm, the f64 factorization of its linear
-/// stiffness, medians of 40 or more, alternating runs): tet4 on 7 × 16 × 14 cubes (6,204
-/// equations) 0.93 M factor entries and 11–20 ms after AMD against 1.07 M and 17–36 ms after
-/// nested dissection; on twice the cells (43,401) 19.9 M entries either way, 470–590 ms
+/// stiffness, medians of 40 (5 on the larger mesh), alternating runs): tet4 on 7 × 16 × 14
+/// cubes (6,204 equations) 0.93 M factor entries and 11–20 ms after AMD against 1.07 M and
+/// 16–36 ms after nested dissection; on twice the cells (43,401) 19.9 M entries either way, 470–590 ms
 /// against 570–670 ms. Tet10 on the default cells (the blade advanced at a 10 mm pull, five
 /// 0.5 mm steps, one run each): 9.5 s of factorizations after AMD against 5.1 s.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Ordering {
     /// Nested dissection (METIS, [`super::ordering`]).
-    #[default]
     NestedDissection,
     /// faer's approximate minimum degree.
     MinimumDegree,
@@ -164,11 +163,9 @@ impl Cholesky {
     ) -> Result<Self, ModelError> {
         let narrow = narrow(pattern)?;
         let (threshold, ordering) = match factorization {
-            Factorization::Simplicial => {
-                (SupernodalThreshold::FORCE_SIMPLICIAL, Ordering::default())
-            }
+            Factorization::Simplicial => (SupernodalThreshold::FORCE_SIMPLICIAL, None),
             Factorization::Supernodal(o) | Factorization::SupernodalSingle(o) => {
-                (SupernodalThreshold::FORCE_SUPERNODAL, o)
+                (SupernodalThreshold::FORCE_SUPERNODAL, Some(o))
             }
         };
         let params = CholeskySymbolicParams {
@@ -176,9 +173,9 @@ impl Cholesky {
             ..Default::default()
         };
         let (fwd, inv);
-        let ordering = match (factorization, ordering) {
-            (Factorization::Simplicial, _) | (_, Ordering::MinimumDegree) => SymmetricOrdering::Amd,
-            (_, Ordering::NestedDissection) => {
+        let ordering = match ordering {
+            None | Some(Ordering::MinimumDegree) => SymmetricOrdering::Amd,
+            Some(Ordering::NestedDissection) => {
                 let nd = ordering::nested_dissection(pattern)?;
                 let mut i = vec![0; nd.len()];
                 for (k, &p) in nd.iter().enumerate() {
@@ -572,6 +569,54 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The supernodal factorization orders as asked: AMD as the simplicial one does (faer's),
+    /// nested dissection otherwise; both solve a 3D block's stiffness alike.
+    #[test]
+    fn a_supernodal_factorization_orders_as_asked() {
+        use crate::element::{Elastic, Law, Material};
+        let planes = [4, 3, 3].map(|n| (0..=n).map(f64::from).collect::<Vec<_>>());
+        let mesh = crate::mesh::generate::block_on_planes(
+            &planes,
+            crate::mesh::generate::Split::ExtrudedX { mirrored: false },
+        )
+        .unwrap();
+        let material = Material::new(Law::Linear, Elastic::new("block", 1.0, 0.3).unwrap());
+        let solid = crate::assembly::solid::Solid::linear(&mesh, material);
+        let asm = crate::assembly::solid::assembler(&mesh);
+        let mut k = asm.zeros();
+        let zero = vec![0.0; solid.n_dofs()];
+        solid
+            .add_internal(&asm, &zero, &mut zero.clone(), Some(&mut k))
+            .unwrap();
+        // A grounding spring on every diagonal entry: positive definite.
+        for d in 0..solid.n_dofs() {
+            k[crate::assembly::slot(asm.symbolic(), d, d)] += 1e-3;
+        }
+        let analyse = |f| Cholesky::analyze(asm.symbolic().as_ref(), f).unwrap();
+        let amd = analyse(Factorization::Supernodal(Ordering::MinimumDegree));
+        let nd = analyse(Factorization::Supernodal(Ordering::NestedDissection));
+        assert_eq!(
+            amd.analysis.perm_fwd,
+            analyse(Factorization::Simplicial).analysis.perm_fwd
+        );
+        assert_ne!(amd.analysis.perm_fwd, nd.analysis.perm_fwd);
+        let b: Vec<f64> = (0..solid.n_dofs()).map(|i| (i % 7) as f64 - 3.0).collect();
+        let solve = |mut chol: Cholesky| {
+            chol.factorize(asm.matrix(&k)).unwrap();
+            let mut x = b.clone();
+            chol.solve_in_place(&mut x);
+            x
+        };
+        let (x_amd, x_nd) = (solve(amd), solve(nd));
+        let mut r = b.clone();
+        crate::assembly::mul_add(asm.matrix(&k), &x_amd, -1.0, &mut r);
+        assert!(r.iter().all(|r| r.abs() < 1e-9), "{r:?}");
+        assert!(x_amd
+            .iter()
+            .zip(&x_nd)
+            .all(|(a, b)| (a - b).abs() < 1e-9 * a.abs().max(1.0)));
     }
 
     /// The single-precision factor solves to f32's accuracy times the chain's conditioning

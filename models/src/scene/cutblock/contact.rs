@@ -22,7 +22,9 @@
 //! at once; a cut pulled open and then closed ends as one closed at once, to 1e-9). Where
 //! that does not settle in [`super::topology`]'s bound, or lets a node slide deeper than
 //! the small-sliding limit below, the answer with the springs linearized where their nodes
-//! were caught stays, and the scene warns once per run.
+//! were caught stays, and the scene warns once per run. Not so under a press on closed
+//! flanks: one load step or two end at different equilibria there (docs/theory/cutblock.md),
+//! and the scene warns once per run that the answer may depend on the loading history.
 //!
 //! Penalty stiffness k_p = 1000 · E · h (N/mm): a thousand times the axial stiffness of that
 //! cell per unit face area, so the penetration under a contact force F is F / k_p. The gap of

@@ -68,11 +68,12 @@ pub struct CutBlock {
     topology: Option<Topology>,
     outputs: Option<Outputs>,
     work: Work,
-    /// Warnings not yet taken, and whether the strain and the contact warnings were given
-    /// in this run.
+    /// Warnings not yet taken, and whether the strain, the contact and the press warnings
+    /// were given in this run.
     warnings: Vec<String>,
     warned_strain: bool,
     warned_contact: bool,
+    warned_press: bool,
 }
 
 /// The cut block's state (see [`SceneState`]).
@@ -86,6 +87,8 @@ pub struct State {
     warned_strain: bool,
     #[serde(default)]
     warned_contact: bool,
+    #[serde(default)]
+    warned_press: bool,
 }
 
 /// What the scene has done so far: how often it rebuilt the topology (and of those, made a
@@ -158,6 +161,7 @@ impl CutBlock {
             warnings: Vec::new(),
             warned_strain: false,
             warned_contact: false,
+            warned_press: false,
         }
     }
 
@@ -243,35 +247,36 @@ impl CutBlock {
         }
     }
 
-    /// Once per run: an answer of the flank contact that may depend on the loading history
-    /// — a solve whose springs stayed linearized where their nodes were caught, or a press
-    /// on closed flanks (one load step or two end apart there: docs/theory/cutblock.md).
+    /// Once per run each: an answer of the flank contact that may depend on the loading
+    /// history — a solve whose springs stayed linearized where their nodes were caught, or
+    /// a press on closed flanks (one load step or two end apart there:
+    /// docs/theory/cutblock.md).
     fn check_contact(&mut self, press: f64) {
         let Some(t) = &mut self.topology else {
             return;
         };
         let fell_back = std::mem::take(&mut t.fell_back);
         let pressed = press > 0.0 && t.contact.as_ref().is_some_and(|c| !c.active.is_empty());
-        if self.warned_contact || !(fell_back || pressed) {
-            return;
+        if fell_back && !self.warned_contact {
+            self.warned_contact = true;
+            self.warnings.push(
+                "the flank contact's springs could not be linearized again where they hold \
+                 (the re-linearization did not settle, or let a node slide beyond the \
+                 small-sliding range): this answer may depend on the loading history (its \
+                 springs are linearized where their nodes were caught; on the tested paths \
+                 that left reactions up to 8e-8 apart)"
+                    .into(),
+            );
         }
-        self.warned_contact = true;
-        self.warnings.push(if fell_back {
-            "the flank contact's springs could not be linearized again where they hold \
-             (the re-linearization did not settle, or let a node slide beyond the \
-             small-sliding range): this answer may depend on the loading history (its \
-             springs are linearized where their nodes were caught; on the tested paths \
-             that left reactions up to 8e-8 apart)"
-                .into()
-        } else {
-            format!(
+        if pressed && !self.warned_press {
+            self.warned_press = true;
+            self.warnings.push(format!(
                 "the press ({press} N) acts on closed flanks: this answer may depend on the \
-                 loading history (the contact's springs assume small sliding, and a press \
-                 slides the flanks along each other; on the default block, compressed and \
-                 pressed in one step or in two, the openings ended up to 0.3 mm and the \
-                 reactions up to 4 % apart)"
-            )
-        });
+                 loading history (on the default block, compressed and pressed in one step \
+                 or in two, the openings ended up to 0.3 mm and the reactions up to 4 % \
+                 apart)"
+            ));
+        }
     }
 
     fn geometry_from_values(&self) -> Result<Geometry, SceneError> {
@@ -417,6 +422,7 @@ impl Scene for CutBlock {
         self.topology = None;
         self.warned_strain = false;
         self.warned_contact = false;
+        self.warned_press = false;
         self.solve()?;
         self.values.freeze();
         Ok(())
@@ -435,6 +441,7 @@ impl Scene for CutBlock {
             warnings: self.warnings.clone(),
             warned_strain: self.warned_strain,
             warned_contact: self.warned_contact,
+            warned_press: self.warned_press,
         }))
     }
 
@@ -477,6 +484,7 @@ impl Scene for CutBlock {
             warnings: s.warnings.clone(),
             warned_strain: s.warned_strain,
             warned_contact: s.warned_contact,
+            warned_press: s.warned_press,
             ..scene
         };
         Ok(())
