@@ -14,6 +14,17 @@ const SIZE: [f64; 3] = [2.0, 3.0, 1.5];
 const E: f64 = 0.05;
 const NU: f64 = 0.43;
 
+/// A Newton solver on a supernodal factorization ordered by nested dissection.
+fn supernodal_newton(asm: &Assembler, fixed: &[usize], settings: Settings) -> Newton {
+    Newton::new(
+        asm,
+        fixed,
+        Factorization::Supernodal(Ordering::NestedDissection),
+        settings,
+    )
+    .unwrap()
+}
+
 fn material(law: Law) -> Material {
     Material::new(law, Elastic::new("m", E, NU).unwrap())
 }
@@ -114,13 +125,7 @@ fn uniaxial_stretch_matches_the_closed_form_for_both_tetrahedra_and_laws() {
                     max_increment: 0.2,
                     ..Settings::default()
                 };
-                let mut newton = Newton::new(
-                    &asm,
-                    &fixed,
-                    Factorization::Supernodal(Ordering::NestedDissection),
-                    settings,
-                )
-                .unwrap();
+                let mut newton = supernodal_newton(&asm, &fixed, settings);
                 let mut u = vec![0.0; solid.n_dofs()];
                 pull(&mut newton, &solid, &asm, &mut u, &prescribed).unwrap();
                 let force: f64 = pulled
@@ -155,13 +160,7 @@ fn a_rigid_rotation_is_stress_free_at_finite_strain_only() {
             .iter()
             .flat_map(|n| [3 * n, 3 * n + 1, 3 * n + 2])
             .collect();
-        let mut newton = Newton::new(
-            &asm,
-            &fixed,
-            Factorization::Supernodal(Ordering::NestedDissection),
-            Settings::default(),
-        )
-        .unwrap();
+        let mut newton = supernodal_newton(&asm, &fixed, Settings::default());
         let mut u = vec![0.0; solid.n_dofs()];
         let mut prescribed = vec![0.0; solid.n_dofs()];
         for step in 1..=10 {
@@ -205,13 +204,7 @@ fn newton_converges_quadratically() {
         reuse_contraction: 0.0,
         ..Settings::default()
     };
-    let mut newton = Newton::new(
-        &asm,
-        &fixed,
-        Factorization::Supernodal(Ordering::NestedDissection),
-        settings,
-    )
-    .unwrap();
+    let mut newton = supernodal_newton(&asm, &fixed, settings);
     let mut u = vec![0.0; solid.n_dofs()];
     let report = pull(&mut newton, &solid, &asm, &mut u, &prescribed)
         .unwrap()
@@ -230,13 +223,7 @@ fn newton_converges_quadratically() {
 fn a_failed_solve_names_the_load_reached_and_keeps_the_state() {
     let (solid, asm) = block(Tetrahedron::Tet4, Law::StVenantKirchhoff);
     let (fixed, mut prescribed, pulled) = sliding(&solid, 0.1 * SIZE[1]);
-    let mut newton = Newton::new(
-        &asm,
-        &fixed,
-        Factorization::Supernodal(Ordering::NestedDissection),
-        Settings::default(),
-    )
-    .unwrap();
+    let mut newton = supernodal_newton(&asm, &fixed, Settings::default());
     let mut u = vec![0.0; solid.n_dofs()];
     let zero = vec![0.0; solid.n_dofs()];
     let mut body = Body {
@@ -280,13 +267,7 @@ fn a_kept_factorization_reaches_the_same_equilibrium_with_fewer_factorizations()
             reuse_contraction,
             ..Settings::default()
         };
-        let mut newton = Newton::new(
-            &asm,
-            &fixed,
-            Factorization::Supernodal(Ordering::NestedDissection),
-            settings,
-        )
-        .unwrap();
+        let mut newton = supernodal_newton(&asm, &fixed, settings);
         let mut u = vec![0.0; solid.n_dofs()];
         let mut body = Body {
             solid: &solid,
