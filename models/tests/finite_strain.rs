@@ -287,3 +287,53 @@ fn a_kept_factorization_reaches_the_same_equilibrium_with_fewer_factorizations()
     assert!(diff < 1e-9 * size, "{diff:e}");
     assert!(kept_count < full_count, "{kept_count} vs {full_count}");
 }
+
+/// A solver done with and recycled ([`Newton::recycle`]: its storage kept, its state reset)
+/// solves the next equations of its pattern exactly as a new one of that pattern
+/// ([`Newton::same_pattern`]) does: the same iterations and factorizations, bit for bit the
+/// same displacements. The equations change as at a blade advance within a cell: the same
+/// connectivity with the nodes moved (a longer block), and another ν.
+#[test]
+fn a_recycled_solver_solves_as_a_new_one_of_its_pattern() {
+    for factorization in [
+        Factorization::Supernodal(Ordering::NestedDissection),
+        Factorization::SupernodalSingle(Ordering::MinimumDegree),
+    ] {
+        let (solid, asm) = block(Tetrahedron::Tet4, Law::NeoHookean);
+        let (fixed, prescribed, _) = sliding(&solid, 0.3 * SIZE[1]);
+        let settings = Settings {
+            max_increment: 0.1 * SIZE[1],
+            reuse_contraction: 0.25,
+            ..Settings::default()
+        };
+        let mut used = Newton::new(&asm, &fixed, factorization, settings).unwrap();
+        let mut u = vec![0.0; solid.n_dofs()];
+        pull(&mut used, &solid, &asm, &mut u, &prescribed).unwrap();
+
+        let taller = generate::block([SIZE[0], SIZE[1], 1.2 * SIZE[2]], [2, 3, 2]).unwrap();
+        let other = Material::new(Law::NeoHookean, Elastic::new("m", E, 0.3).unwrap());
+        let moved = Solid::new(&taller, Tetrahedron::Tet4, other);
+        let (_, target, _) = sliding(&moved, 0.2 * SIZE[1]);
+        let next = Settings {
+            max_increment: 0.05 * SIZE[1],
+            ..settings
+        };
+        let mut new = used.same_pattern(next).unwrap();
+        used.recycle(next).unwrap();
+        assert!(used.shares_analysis(&new));
+        let solve = |newton: &mut Newton| {
+            let mut u = vec![0.0; moved.n_dofs()];
+            let report = pull(newton, &moved, &asm, &mut u, &target).unwrap();
+            (u, report.iterations.clone(), report.factorizations)
+        };
+        let (fresh, recycled) = (solve(&mut new), solve(&mut used));
+        println!(
+            "{factorization:?}: iterations {:?}, {} factorizations",
+            fresh.1, fresh.2
+        );
+        assert_eq!(fresh.1, recycled.1, "iterations");
+        assert_eq!(fresh.2, recycled.2, "factorizations");
+        assert!(fresh.0 == recycled.0, "displacements differ");
+        assert!(fresh.0.iter().any(|&x| x != 0.0));
+    }
+}

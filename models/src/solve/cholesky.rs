@@ -212,6 +212,12 @@ impl Cholesky {
         Self::numeric(Arc::clone(&self.analysis))
     }
 
+    /// Whether `other` factorizes with this one's symbolic analysis (made by
+    /// [`Self::same_pattern`] of one another).
+    pub fn shares_analysis(&self, other: &Cholesky) -> bool {
+        Arc::ptr_eq(&self.analysis, &other.analysis)
+    }
+
     /// The factor's storage and workspace for an analysis, claimed against the budget. With
     /// single precision: the f32 factor and copies, and the f64 factor a fallback needs —
     /// claimed here, so that a fallback stays within the budget, but made only on the first

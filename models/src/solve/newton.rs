@@ -232,6 +232,49 @@ impl Newton {
         Ok(Self::with(self.bc.clone(), chol, n, nnz, settings))
     }
 
+    /// Back to the state [`Self::same_pattern`] makes (u = 0 under no load, no kept
+    /// factorization), keeping the storage: a solver done with for the next equations of
+    /// its pattern, which then need no fresh memory (a tet10 factor is mapped from the
+    /// operating system page by page when new).
+    pub fn recycle(&mut self, settings: Settings) -> Result<(), ModelError> {
+        Self::check(&settings)?;
+        self.factorized = false;
+        for v in [
+            &mut self.factored_at,
+            &mut self.k,
+            &mut self.reduced,
+            &mut self.f,
+            &mut self.r,
+            &mut self.du,
+            &mut self.trial,
+            &mut self.converged,
+            &mut self.change,
+            &mut self.prescribed,
+            &mut self.external,
+            &mut self.target_prescribed,
+            &mut self.target_external,
+        ] {
+            v.fill(0.0);
+        }
+        self.anderson.reset();
+        self.scale = 0.0;
+        self.report.residuals.clear();
+        self.report.iterations.clear();
+        // The counters and times zeroed, the lists' storage kept.
+        self.report = Report {
+            residuals: std::mem::take(&mut self.report.residuals),
+            iterations: std::mem::take(&mut self.report.iterations),
+            ..Report::default()
+        };
+        self.settings = settings;
+        Ok(())
+    }
+
+    /// Whether `other` solves with this one's symbolic analysis.
+    pub fn shares_analysis(&self, other: &Newton) -> bool {
+        self.chol.shares_analysis(&other.chol)
+    }
+
     fn with(bc: Dirichlet, chol: Cholesky, n: usize, nnz: usize, settings: Settings) -> Self {
         let free = bc.n_free();
         let full = || vec![0.0; n];

@@ -45,6 +45,11 @@ impl Statics {
         })
     }
 
+    /// Whether `other` solves with this one's symbolic analysis.
+    pub fn shares_analysis(&self, other: &Statics) -> bool {
+        self.chol.shares_analysis(&other.chol)
+    }
+
     /// The dof split.
     pub fn dirichlet(&self) -> &Dirichlet {
         &self.bc

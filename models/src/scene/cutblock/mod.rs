@@ -34,7 +34,7 @@ pub use geometry::SNAP;
 use geometry::{Geometry, Options, Strategy, Support};
 use outputs::Outputs;
 pub use topology::MAX_INCREMENTS;
-use topology::{Topology, TopologyState};
+use topology::{Spare, Topology, TopologyState};
 use variables::*;
 
 use super::{
@@ -66,6 +66,8 @@ pub struct CutBlock {
     values: Values,
     geometry: Option<Geometry>,
     topology: Option<Topology>,
+    /// The last replaced topology's solver, for the next of its pattern.
+    spare: Option<Spare>,
     outputs: Option<Outputs>,
     work: Work,
     /// Warnings not yet taken, and whether the strain, the contact and the press warnings
@@ -156,6 +158,7 @@ impl CutBlock {
             values: Values::new(table()),
             geometry: None,
             topology: None,
+            spare: None,
             outputs: None,
             work: Work::default(),
             warnings: Vec::new(),
@@ -334,8 +337,17 @@ impl CutBlock {
             slot => {
                 // Built and solved aside: on error the last good topology and state stay.
                 let limit = megabytes(self.values.real(MEMORY_LIMIT));
+                let spare = self.spare.take();
                 let mut built = budget::within(limit, || {
-                    Topology::build(geometry, front, material, kind, settings, slot.as_ref())
+                    Topology::build(
+                        geometry,
+                        front,
+                        material,
+                        kind,
+                        settings,
+                        slot.as_ref(),
+                        spare,
+                    )
                 })?;
                 // A finite-strain law starts from the last equilibrium carried onto the
                 // new mesh, and from the unloaded block if that does not converge.
@@ -350,8 +362,10 @@ impl CutBlock {
                     built.unload(geometry, scalpel)?;
                     built.solve(geometry, pull, press, scalpel)?;
                 }
-                let old = slot.replace(built).map(|t| t.work);
-                self.work = self.work.add(old.unwrap_or_default());
+                if let Some(old) = slot.replace(built) {
+                    self.work = self.work.add(old.work);
+                    self.spare = Some(old.into_spare());
+                }
                 self.work.topology_builds += 1;
             }
         }
@@ -419,7 +433,7 @@ impl Scene for CutBlock {
         let geometry = budget::within(limit, || self.geometry_from_values())?;
         self.warnings.extend(geometry.warnings.iter().cloned());
         self.geometry = Some(geometry);
-        self.topology = None;
+        (self.topology, self.spare) = (None, None);
         self.warned_strain = false;
         self.warned_contact = false;
         self.warned_press = false;

@@ -15,6 +15,8 @@
 //! springs are linearized again (75 per settle), and the change split into at most 2 + 4 +
 //! [`CONTACT_PARTS`] parts (15 settles).
 
+use std::sync::Arc;
+
 use serde::{Deserialize, Serialize};
 
 use super::contact::{FlankContact, Held, Spring, PENALTY_FACTOR, SLIDING_LIMIT};
@@ -67,8 +69,20 @@ impl Solver {
         }
     }
 
-    /// A solver of the same kind for equations of the same pattern, sharing the analysis.
-    fn same_pattern(&self, asm: &Assembler, settings: Settings) -> Result<Self, SceneError> {
+    /// A solver of the same kind for equations of the same pattern, sharing the analysis:
+    /// the `spare` if it shares it too (its storage reused), else a new one.
+    fn same_pattern(
+        &self,
+        asm: &Assembler,
+        settings: Settings,
+        spare: Option<Spare>,
+    ) -> Result<Self, SceneError> {
+        if let Some(Spare(mut spare)) = spare.filter(|s| s.0.shares_analysis(self)) {
+            if let Self::Newton(n) = &mut spare {
+                n.recycle(settings)?;
+            }
+            return Ok(spare);
+        }
         Ok(match self {
             Self::Linear { statics, .. } => Self::Linear {
                 statics: Box::new(statics.same_pattern()?),
@@ -78,7 +92,25 @@ impl Solver {
             Self::Newton(n) => Self::Newton(Box::new(n.same_pattern(settings)?)),
         })
     }
+
+    /// Whether both are of one kind and share the symbolic analysis.
+    fn shares_analysis(&self, other: &Solver) -> bool {
+        match (self, other) {
+            (Self::Linear { statics: a, .. }, Self::Linear { statics: b, .. }) => {
+                a.shares_analysis(b)
+            }
+            (Self::Newton(a), Self::Newton(b)) => a.shares_analysis(b),
+            _ => false,
+        }
+    }
 }
+
+/// The solver of a replaced topology, kept to lend its storage to the next topology of the
+/// same pattern (a blade advance within a cell): the factor's storage and the vectors are
+/// then reused instead of mapped afresh from the operating system page by page, as
+/// allocations of tens of megabytes are (a tet10 factor).
+#[derive(Debug)]
+pub struct Spare(Solver);
 
 /// Everything that depends on the current cut.
 #[derive(Debug)]
@@ -89,7 +121,8 @@ pub struct Topology {
     /// Node pairs facing each other across the cut (front flank, back flank), mid-edge
     /// nodes included.
     pub flank_pairs: Vec<(usize, usize)>,
-    pub asm: Assembler,
+    /// The pattern, shared with the topologies of the same connectivity.
+    pub asm: Arc<Assembler>,
     solver: Solver,
     /// Flank contact, if the scene has a cut and contact is on.
     pub contact: Option<FlankContact>,
@@ -332,7 +365,8 @@ impl Topology {
     /// Meshes the block cut up to `front`, checks that every body is supported, builds the
     /// solid, the pattern and the solver, and factorizes the linear law's stiffness. A
     /// `previous` topology whose mesh has the same connectivity and supports (the front
-    /// moved within a cell, [`Geometry::x_planes`]) lends its pattern and symbolic analysis.
+    /// moved within a cell, [`Geometry::x_planes`]) lends its pattern and symbolic analysis,
+    /// and a `spare` solver of that analysis its storage.
     pub fn build(
         g: &Geometry,
         front: f64,
@@ -340,6 +374,7 @@ impl Topology {
         kind: Tetrahedron,
         settings: Settings,
         previous: Option<&Topology>,
+        spare: Option<Spare>,
     ) -> Result<Self, SceneError> {
         let CutMesh { mesh, flank_pairs } = g.cut(front)?;
         check_supported(&mesh, mesh.node_sets().get("y0")?)?;
@@ -381,9 +416,13 @@ impl Topology {
         });
         let analysed = u64::from(same.is_none());
         let (asm, solver) = match same {
-            Some(p) => (p.asm.clone(), p.solver.same_pattern(&p.asm, settings)?),
+            Some(p) => (
+                Arc::clone(&p.asm),
+                p.solver.same_pattern(&p.asm, settings, spare)?,
+            ),
             None => {
-                let asm = Assembler::new(solid.nodes().len(), 3, &elements);
+                drop(spare);
+                let asm = Arc::new(Assembler::new(solid.nodes().len(), 3, &elements));
                 // Measured fastest for each ([`Ordering`]).
                 let ordering = match kind {
                     Tetrahedron::Tet4 => Ordering::MinimumDegree,
@@ -440,6 +479,11 @@ impl Topology {
         Ok(t)
     }
 
+    /// The solver, for the next topology of its pattern ([`Spare`]).
+    pub fn into_spare(self) -> Spare {
+        Spare(self.solver)
+    }
+
     /// The node lists of the solid's elements and the contact's.
     fn elements(&self) -> Vec<&[usize]> {
         elements_of(&self.solid, self.contact.as_ref())
@@ -477,7 +521,7 @@ impl Topology {
     ) -> Result<Self, SceneError> {
         let elastic = Elastic::new("saved", state.young, state.poisson)?;
         let material = Material::new(Law::parse(&state.law)?, elastic);
-        let mut t = Self::build(g, state.front, material, kind, settings, None)?;
+        let mut t = Self::build(g, state.front, material, kind, settings, None, None)?;
         let n = t.u.len();
         for (name, v) in [
             ("u", &state.u),
