@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use models::scene::{Causality, Start, Variable, VariableKind};
+use models::scene::{outputs, Causality, Start, Variable, VariableKind};
 
 use crate::instance::{fmi2_scalars, time_vr};
 use crate::model::Model;
@@ -250,16 +250,11 @@ pub fn fmi3(model: &Model) -> String {
         }
     }
     s += "  </ModelVariables>\n  <ModelStructure>\n";
-    let outputs: Vec<u32> = vars
-        .iter()
-        .filter(|v| v.causality == Causality::Output)
-        .map(|v| v.vr)
-        .collect();
-    for vr in &outputs {
-        let _ = writeln!(s, r#"    <Output valueReference="{vr}"/>"#);
+    for v in outputs(vars) {
+        let _ = writeln!(s, r#"    <Output valueReference="{}"/>"#, v.vr);
     }
-    for vr in &outputs {
-        let _ = writeln!(s, r#"    <InitialUnknown valueReference="{vr}"/>"#);
+    for v in outputs(vars) {
+        let _ = writeln!(s, r#"    <InitialUnknown valueReference="{}"/>"#, v.vr);
     }
     s + "  </ModelStructure>\n</fmiModelDescription>\n"
 }

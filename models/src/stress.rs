@@ -19,30 +19,26 @@ pub struct Centroid {
     pub volume: f64,
 }
 
-/// The Cauchy stress and the strain at each element's centroid for displacements `u`:
-/// finite strain σ = J⁻¹ P Fᵀ and the Green–Lagrange strain ½(FᵀF − I); the linear law
-/// σ = P (small strain) and ε = sym(F − I).
-pub fn solid_centroids(solid: &Solid, u: &[f64]) -> Vec<Centroid> {
+/// The Cauchy stress and the strain at each element's centroid for displacements `u`, in
+/// element order: finite strain σ = J⁻¹ P Fᵀ and the Green–Lagrange strain ½(FᵀF − I); the
+/// linear law σ = P (small strain) and ε = sym(F − I). Computed as iterated.
+pub fn solid_centroids<'a>(solid: &'a Solid, u: &'a [f64]) -> impl Iterator<Item = Centroid> + 'a {
     let m = solid.material;
-    solid
-        .centroids(u)
-        .into_iter()
-        .map(|(f, volume)| {
-            let p = m.stress(&f);
-            let (stress, strain) = match m.law {
-                Law::Linear => (p, 0.5 * (f + f.transpose()) - Matrix3::identity()),
-                _ => (
-                    p * f.transpose() / f.determinant(),
-                    0.5 * (f.transpose() * f - Matrix3::identity()),
-                ),
-            };
-            Centroid {
-                stress,
-                strain,
-                volume,
-            }
-        })
-        .collect()
+    solid.centroids(u).map(move |(f, volume)| {
+        let p = m.stress(&f);
+        let (stress, strain) = match m.law {
+            Law::Linear => (p, 0.5 * (f + f.transpose()) - Matrix3::identity()),
+            _ => (
+                p * f.transpose() / f.determinant(),
+                0.5 * (f.transpose() * f - Matrix3::identity()),
+            ),
+        };
+        Centroid {
+            stress,
+            strain,
+            volume,
+        }
+    })
 }
 
 /// von Mises stress of a symmetric 3 × 3 stress.
@@ -269,25 +265,25 @@ pub fn tet_stresses(mesh: &Mesh3d, material: &Elastic, u: &[f64]) -> Vec<Vector6
 }
 
 /// Nodal averages of element values weighted by element measure (area or volume):
-/// s_n = Σ_e w_e s_e / Σ_e w_e over the elements e that contain node n.
+/// s_n = Σ_e w_e s_e / Σ_e w_e over the elements e that contain node n, for `elements` as
+/// (nodes, w_e, s_e), into `average` (0 at a node of no element), with `weight` as scratch
+/// (both of the node count). Allocates nothing.
 pub fn nodal_average<const N: usize>(
-    n_nodes: usize,
-    elements: &[[usize; N]],
-    weights: &[f64],
-    values: &[f64],
-) -> Vec<f64> {
-    let mut sum = vec![0.0; n_nodes];
-    let mut weight = vec![0.0; n_nodes];
-    for ((e, &w), &v) in elements.iter().zip(weights).zip(values) {
-        for &n in e {
-            sum[n] += w * v;
+    elements: impl IntoIterator<Item = ([usize; N], f64, f64)>,
+    average: &mut [f64],
+    weight: &mut [f64],
+) {
+    average.fill(0.0);
+    weight.fill(0.0);
+    for (nodes, w, v) in elements {
+        for n in nodes {
+            average[n] += w * v;
             weight[n] += w;
         }
     }
-    sum.iter()
-        .zip(&weight)
-        .map(|(s, w)| if *w > 0.0 { s / w } else { 0.0 })
-        .collect()
+    for (s, &w) in average.iter_mut().zip(weight.iter()) {
+        *s = if w > 0.0 { *s / w } else { 0.0 };
+    }
 }
 
 #[cfg(test)]
@@ -325,7 +321,12 @@ mod tests {
 
     #[test]
     fn nodal_average_weights_by_measure() {
-        let avg = nodal_average(3, &[[0, 1], [1, 2]], &[1.0, 3.0], &[10.0, 20.0]);
-        assert_eq!(avg, vec![10.0, 17.5, 20.0]);
+        let (mut avg, mut weight) = ([f64::NAN; 4], [f64::NAN; 4]);
+        nodal_average(
+            [([0, 1], 1.0, 10.0), ([1, 2], 3.0, 20.0)],
+            &mut avg,
+            &mut weight,
+        );
+        assert_eq!(avg, [10.0, 17.5, 20.0, 0.0]);
     }
 }

@@ -3,11 +3,13 @@
 //! output equals, to the last bit. Covered: every integrator, full and modal order, finite
 //! strain (Newton's kept tangent), a stiffness change before the save and one pending at
 //! it, a save inside Houbolt's start; the cut block with a growing cut, linear and
-//! neo-Hookean, tet4 and tet10, flank contact, a material change pending at the save.
+//! neo-Hookean, tet4 and tet10 (also in advances within a cell, where the uninterrupted run
+//! reuses the replaced solver's storage), flank contact, a material change pending at the
+//! save.
 
 use models::scene::abdomen::Abdomen;
 use models::scene::cutblock::CutBlock;
-use models::scene::{Causality, Scene, SceneState};
+use models::scene::{outputs, Scene, SceneState};
 
 /// Settings (reals, strings) before initialization.
 type Settings<'a> = (&'a [(&'a str, f64)], &'a [(&'a str, &'a str)]);
@@ -34,12 +36,7 @@ fn build(make: fn() -> Box<dyn Scene>, (reals, strings): Settings<'_>) -> Box<dy
 
 /// Steps `from..to` of size `h` with `inputs`, every output's bits after each.
 fn run(s: &mut dyn Scene, inputs: Inputs, h: f64, from: usize, to: usize) -> Vec<u64> {
-    let outputs: Vec<(u32, usize)> = s
-        .variables()
-        .iter()
-        .filter(|v| v.causality == Causality::Output)
-        .map(|v| (v.vr, v.len))
-        .collect();
+    let outputs: Vec<(u32, usize)> = outputs(s.variables()).map(|v| (v.vr, v.len)).collect();
     let mut bits = Vec::new();
     for k in from..to {
         for (n, v) in inputs(k) {
@@ -192,16 +189,22 @@ fn the_abdomen_continues_across_stiffness_changes() {
 fn the_cut_block_continues_bit_for_bit() {
     let small = [("cells_x", 6.0), ("cells_y", 4.0), ("cells_z", 3.0)];
     let cut_and_pull: Inputs = |k| vec![("scalpel_x", 15.0 * k as f64), ("pull", 0.7 * k as f64)];
-    for material in ["linear", "neo-hookean"] {
-        for element in ["tet4", "tet10"] {
-            continues(
-                cutblock,
-                (&small, &[("material", material), ("element", element)]),
-                cut_and_pull,
-                1.0,
-                3,
-                7,
-            );
+    // Advances of 0.5 mm within a cell: the uninterrupted run builds each topology into
+    // the storage of the solver the advance before replaced (`Spare`), the restored one its
+    // first after the save afresh.
+    let advance: Inputs = |k| vec![("scalpel_x", 20.0 + 0.5 * k as f64), ("pull", 5.0)];
+    for (inputs, steps) in [(cut_and_pull, 7), (advance, 8)] {
+        for material in ["linear", "neo-hookean"] {
+            for element in ["tet4", "tet10"] {
+                continues(
+                    cutblock,
+                    (&small, &[("material", material), ("element", element)]),
+                    inputs,
+                    1.0,
+                    3,
+                    steps,
+                );
+            }
         }
     }
     // The blade still: Newton keeps its factorization from step to step (restored with the

@@ -34,10 +34,7 @@ fn outputs(s: &mut CutBlock) -> Vec<f64> {
 
 /// Every output but those named in `skip`, in table order.
 fn outputs_but(s: &mut CutBlock, skip: &[&str]) -> Vec<f64> {
-    let outputs: Vec<(u32, usize)> = s
-        .variables()
-        .iter()
-        .filter(|v| v.causality == models::scene::Causality::Output)
+    let outputs: Vec<(u32, usize)> = models::scene::outputs(s.variables())
         .filter(|v| !skip.contains(&v.name.as_str()))
         .map(|v| (v.vr, v.len))
         .collect();

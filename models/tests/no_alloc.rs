@@ -1,14 +1,14 @@
 //! A step of every integrator (linear, and Houbolt / Newmark at finite strain), a static
-//! re-solve, Newton iterations at finite strain, and an
-//! abdomen scene's step with all its outputs read allocate nothing. Verified with a counting
-//! global allocator (per thread, so parallel tests do not interfere).
+//! re-solve, Newton iterations at finite strain, an abdomen scene's step with all its
+//! outputs read, and reading the cut block's outputs allocate nothing. Verified with a
+//! counting global allocator (per thread, so parallel tests do not interfere).
 
 use std::alloc::{GlobalAlloc, Layout as AllocLayout, System};
 use std::cell::Cell;
 
 use models::assembly::Dirichlet;
 use models::scene::abdomen::Abdomen;
-use models::scene::{Causality, Scene};
+use models::scene::{outputs, Scene};
 use models::solve::{Damping, Factorization, IntegratorKind, Ordering, Statics, Structure};
 use models::verify::problems;
 
@@ -133,12 +133,7 @@ fn abdomen_step_and_outputs_allocate_nothing() {
         s.set_str("model_order", order).unwrap();
         s.set("modes", 20.0).unwrap();
         s.initialize(0.0).unwrap();
-        let outputs: Vec<u32> = s
-            .variables()
-            .iter()
-            .filter(|v| v.causality == Causality::Output)
-            .map(|v| v.vr)
-            .collect();
+        let outputs: Vec<u32> = outputs(s.variables()).map(|v| v.vr).collect();
         let mut x = [0.0];
         s.do_step(0.0, 1e-3).unwrap();
         // The first read of the error indicator factorizes its stiffness: once.
@@ -299,5 +294,47 @@ fn finite_strain_steps_allocate_nothing() {
             n, 0,
             "{kind:?} allocated {n} times in 30 finite-strain steps"
         );
+    }
+}
+
+/// Reading every output of the cut block allocates nothing once the output buffers have
+/// grown to the mesh (the first read after the blade moved): after steps of the pull with
+/// the flanks open and closed (contact held), linear and neo-Hookean, tet4 and tet10.
+#[test]
+fn cutblock_output_reads_allocate_nothing() {
+    use models::scene::cutblock::CutBlock;
+    for (material, element) in [
+        ("linear", "tet4"),
+        ("neo-hookean", "tet4"),
+        ("neo-hookean", "tet10"),
+    ] {
+        let mut s = CutBlock::new();
+        for (name, value) in [("material", material), ("element", element)] {
+            let vr = s.lookup(name).unwrap();
+            s.set_string(vr, value).unwrap();
+        }
+        s.set("cells_x", 6.0).unwrap();
+        s.set("cells_y", 8.0).unwrap();
+        s.set("cells_z", 6.0).unwrap();
+        s.initialize(0.0).unwrap();
+        let outputs: Vec<(u32, usize)> = outputs(s.variables()).map(|v| (v.vr, v.len)).collect();
+        let mut x = vec![0.0; outputs.iter().map(|o| o.1).max().unwrap()];
+        let mut read_all = |s: &mut CutBlock| {
+            for &(vr, n) in &outputs {
+                s.get_real(vr, &mut x[..n]).unwrap();
+            }
+        };
+        s.set("scalpel_x", 60.0).unwrap();
+        s.do_step(0.0, 1.0).unwrap();
+        read_all(&mut s);
+        let mut held = 0.0;
+        for pull in [2.0, 3.0, -2.0, -2.5] {
+            s.set("pull", pull).unwrap();
+            s.do_step(0.0, 1.0).unwrap();
+            let n = allocations_during(|| read_all(&mut s));
+            assert_eq!(n, 0, "{material} {element} at pull {pull}: {n} allocations");
+            held = s.get("contact_points").unwrap();
+        }
+        assert!(held > 0.0, "{material} {element}: the flanks closed");
     }
 }

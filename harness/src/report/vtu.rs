@@ -134,7 +134,6 @@ pub fn abdomen(path: &Path, view: &FieldView<'_>) -> Result<()> {
 pub fn cutblock(path: &Path, solid: &Solid, u: &[f64]) -> Result<()> {
     let points = solid.nodes().iter().flatten().copied().collect();
     let von_mises: Vec<f64> = stress::solid_centroids(solid, u)
-        .iter()
         .map(|c| stress::mises(&c.stress))
         .collect();
     let cells = match &solid.elements() {

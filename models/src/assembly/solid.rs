@@ -173,28 +173,29 @@ impl Solid {
         }
     }
 
-    /// The deformation gradient at each element's centroid and the element's volume.
-    pub fn centroids(&self, u: &[f64]) -> Vec<(Matrix3<f64>, f64)> {
+    /// The deformation gradient at each element's centroid and the element's volume, in
+    /// element order (computed as iterated: nothing is allocated).
+    pub fn centroids<'a>(&'a self, u: &'a [f64]) -> impl Iterator<Item = (Matrix3<f64>, f64)> + 'a {
+        (0..self.len()).map(move |e| self.centroid(e, u))
+    }
+
+    /// The deformation gradient at element `e`'s centroid and its volume.
+    fn centroid(&self, e: usize, u: &[f64]) -> (Matrix3<f64>, f64) {
+        let r = &self.reference[e];
         match &self.elements {
-            Elements::Tet4(e) => centroids::<Tet4, 4, 12>(&self.reference, e, u),
-            Elements::Tet10(e) => centroids::<Tet10, 10, 30>(&self.reference, e, u),
+            Elements::Tet4(el) => (centroid_gradient::<Tet4, 4, 12>(r, &el[e], u), r.volume),
+            Elements::Tet10(el) => (centroid_gradient::<Tet10, 10, 30>(r, &el[e], u), r.volume),
         }
     }
 }
 
-fn centroids<S: Shape<N>, const N: usize, const D: usize>(
-    reference: &[Reference],
-    elements: &[[usize; N]],
+fn centroid_gradient<S: Shape<N>, const N: usize, const D: usize>(
+    reference: &Reference,
+    element: &[usize; N],
     u: &[f64],
-) -> Vec<(Matrix3<f64>, f64)> {
-    elements
-        .iter()
-        .zip(reference)
-        .map(|(el, r)| {
-            let ue = SVector::<f64, D>::from_fn(|row, _| u[3 * el[row / 3] + row % 3]);
-            (deformation_at::<S, N, D>(r, &ue, &[0.25; 4]), r.volume)
-        })
-        .collect()
+) -> Matrix3<f64> {
+    let ue = SVector::<f64, D>::from_fn(|row, _| u[3 * element[row / 3] + row % 3]);
+    deformation_at::<S, N, D>(reference, &ue, &[0.25; 4])
 }
 
 /// A solid on its own pattern is a system of equations for the Newton solver.

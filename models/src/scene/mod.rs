@@ -11,7 +11,9 @@ mod variables;
 
 pub use error::{ErrorKind, SceneError};
 pub use state::SceneState;
-pub use variables::{Causality, Start, Values, ValuesState, Variability, Variable, VariableKind};
+pub use variables::{
+    outputs, Causality, Start, Values, ValuesState, Variability, Variable, VariableKind,
+};
 
 /// The scenes by name (the FMI model identifiers): `abdomen` and `cutblock`.
 pub const SCENES: [&str; 2] = ["abdomen", "cutblock"];

@@ -80,6 +80,11 @@ pub struct Variable {
     pub description: String,
 }
 
+/// The outputs of a variable table, in table order.
+pub fn outputs(table: &[Variable]) -> impl Iterator<Item = &Variable> {
+    table.iter().filter(|v| v.causality == Causality::Output)
+}
+
 impl Variable {
     /// A real scalar parameter.
     pub fn parameter(

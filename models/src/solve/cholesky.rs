@@ -218,6 +218,13 @@ impl Cholesky {
         Arc::ptr_eq(&self.analysis, &other.analysis)
     }
 
+    /// Forgets the factorization (its storage kept): a solve before the next
+    /// [`factorize`](Self::factorize) panics, as on a new one.
+    pub fn invalidate(&mut self) {
+        self.factorized = false;
+        self.in_single = false;
+    }
+
     /// The factor's storage and workspace for an analysis, claimed against the budget. With
     /// single precision: the f32 factor and copies, and the f64 factor a fallback needs —
     /// claimed here, so that a fallback stays within the budget, but made only on the first

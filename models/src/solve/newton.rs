@@ -239,6 +239,7 @@ impl Newton {
     pub fn recycle(&mut self, settings: Settings) -> Result<(), ModelError> {
         Self::check(&settings)?;
         self.factorized = false;
+        self.chol.invalidate();
         for v in [
             &mut self.factored_at,
             &mut self.k,

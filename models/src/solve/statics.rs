@@ -50,6 +50,11 @@ impl Statics {
         self.chol.shares_analysis(&other.chol)
     }
 
+    /// Forgets the factorization (its storage kept) until the next [`Self::factorize`].
+    pub fn invalidate(&mut self) {
+        self.chol.invalidate();
+    }
+
     /// The dof split.
     pub fn dirichlet(&self) -> &Dirichlet {
         &self.bc

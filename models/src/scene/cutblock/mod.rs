@@ -68,7 +68,7 @@ pub struct CutBlock {
     topology: Option<Topology>,
     /// The last replaced topology's solver, for the next of its pattern.
     spare: Option<Spare>,
-    outputs: Option<Outputs>,
+    outputs: Outputs,
     work: Work,
     /// Warnings not yet taken, and whether the strain, the contact and the press warnings
     /// were given in this run.
@@ -159,7 +159,7 @@ impl CutBlock {
             geometry: None,
             topology: None,
             spare: None,
-            outputs: None,
+            outputs: Outputs::default(),
             work: Work::default(),
             warnings: Vec::new(),
             warned_strain: false,
@@ -204,8 +204,18 @@ impl CutBlock {
             .ok_or_else(|| SceneError::NotInitialized {
                 name: "profile".into(),
             })?;
-        Ok(t.top
-            .profile(t.solid.nodes(), &t.u, line, ys.iter().copied()))
+        let mut heights = vec![0.0; ys.len()];
+        let nodes = t.solid.nodes();
+        let sections = &mut Default::default();
+        t.top.profile(
+            nodes,
+            &t.u,
+            line,
+            ys.iter().copied(),
+            &mut heights,
+            sections,
+        );
+        Ok(heights)
     }
 
     fn material(&self) -> Result<Material, SceneError> {
@@ -364,17 +374,29 @@ impl CutBlock {
                 }
                 if let Some(old) = slot.replace(built) {
                     self.work = self.work.add(old.work);
-                    self.spare = Some(old.into_spare());
+                    self.spare = slot.as_ref().and_then(|new| old.into_spare(new));
                 }
                 self.work.topology_builds += 1;
             }
         }
         self.work.solves += 1;
-        self.outputs = None;
+        self.outputs.invalidate();
         self.check_strain();
         self.check_contact(press);
         Ok(())
     }
+}
+
+/// Runs `solve` on one of rayon's threads, the caller waiting asleep (on a thread of the
+/// pool already: in place). After a parallel element assembly rayon's idle threads spin for
+/// a while before they sleep; a solve on a thread of its own would do its factorizations and
+/// solves sharing the cores with all of them, from inside the pool with one fewer (measured
+/// on 2 cores: blade advances 8–13 % faster, BENCHMARKS.md). Solves of scenes stepped from
+/// several threads share the one pool: a thread waiting inside one solve may run another
+/// scene's solve before it goes on, so their steps' latencies are coupled (their total
+/// work is not).
+fn in_pool<R: Send>(solve: impl FnOnce() -> R + Send) -> R {
+    rayon::join(solve, || ()).0
 }
 
 impl Scene for CutBlock {
@@ -400,10 +422,8 @@ impl Scene for CutBlock {
                 name: self.values.variable(vr)?.name.clone(),
             });
         };
-        let outputs = self
-            .outputs
-            .get_or_insert_with(|| Outputs::compute(geometry, topology));
-        outputs.read(vr - FIRST_OUTPUT, out);
+        self.outputs
+            .read(geometry, topology, vr - FIRST_OUTPUT, out);
         Ok(())
     }
 
@@ -437,7 +457,7 @@ impl Scene for CutBlock {
         self.warned_strain = false;
         self.warned_contact = false;
         self.warned_press = false;
-        self.solve()?;
+        in_pool(|| self.solve())?;
         self.values.freeze();
         Ok(())
     }
@@ -504,13 +524,8 @@ impl Scene for CutBlock {
         Ok(())
     }
 
-    /// Solves on one of rayon's threads (the caller waits asleep): after a parallel element
-    /// assembly rayon's idle threads spin for a while before they sleep, and the caller's
-    /// factorization and solves would share the cores with all of them; from inside the
-    /// pool they share them with one fewer. Measured on 2 cores (BENCHMARKS.md): blade
-    /// advances 8–13 % faster.
     fn do_step(&mut self, _t: f64, h: f64) -> Result<(), SceneError> {
         check_step(h)?;
-        rayon::join(|| self.solve(), || ()).0
+        in_pool(|| self.solve())
     }
 }

@@ -6,20 +6,60 @@ use super::{PROFILE_LINES, PROFILE_STATIONS, PROFILE_STEP};
 use crate::assembly::solid::Tetrahedron;
 use crate::stress;
 
-/// All outputs of one solved state, in table order.
-#[derive(Debug, Clone)]
+/// All outputs of one solved state, in table order, computed together on the first read
+/// after a step into buffers kept from step to step: once they have grown to the mesh,
+/// reading a step's outputs allocates nothing.
+#[derive(Debug, Default)]
 pub struct Outputs {
+    /// Whether the values are those of the present state.
+    fresh: bool,
     scalars: [f64; 9],
     profiles: [Vec<f64>; 3],
+    scratch: Scratch,
+}
+
+/// What the outputs are computed in.
+#[derive(Debug, Default)]
+struct Scratch {
+    /// Per element: von Mises stress and volume.
+    elements: Vec<(f64, f64)>,
+    /// Per node: the volume-weighted von Mises average and its weight.
+    average: Vec<f64>,
+    weight: Vec<f64>,
+    /// The bottom line's nodes: (x, u_z).
+    line: Vec<(f64, f64)>,
+    /// A scan line's sections of the front and the back flank.
+    sections: [Vec<[f64; 2]>; 2],
 }
 
 impl Outputs {
-    pub fn compute(g: &Geometry, t: &Topology) -> Self {
-        let (von_mises, strain) = stress_and_strain(t);
-        let scalars = [
+    /// The state changed: the next read computes the outputs anew.
+    pub fn invalidate(&mut self) {
+        self.fresh = false;
+    }
+
+    /// Output number `index` (table order from the first output) of the state `t` into
+    /// `out`.
+    pub fn read(&mut self, g: &Geometry, t: &Topology, index: u32, out: &mut [f64]) {
+        if !self.fresh {
+            self.compute(g, t);
+            self.fresh = true;
+        }
+        let i = index as usize;
+        if i < self.scalars.len() {
+            out[0] = self.scalars[i];
+        } else {
+            out.copy_from_slice(&self.profiles[i - self.scalars.len()]);
+        }
+    }
+
+    fn compute(&mut self, g: &Geometry, t: &Topology) {
+        let s = &mut self.scratch;
+        let (von_mises, strain) = stress_and_strain(t, s);
+        self.scalars = [
             reaction_force(t),
             cut_opening(g, t),
-            bottom_lift(g, t),
+            bottom_lift(g, t, &mut s.line),
             x_contraction(g, t),
             von_mises,
             t.front,
@@ -28,17 +68,16 @@ impl Outputs {
             strain,
         ];
         let stations = || (0..PROFILE_STATIONS).map(|i| i as f64 * PROFILE_STEP);
-        let profiles = PROFILE_LINES.map(|x| t.top.profile(t.solid.nodes(), &t.u, x, stations()));
-        Self { scalars, profiles }
-    }
-
-    /// Output number `index` (table order from the first output) into `out`.
-    pub fn read(&self, index: u32, out: &mut [f64]) {
-        let i = index as usize;
-        if i < self.scalars.len() {
-            out[0] = self.scalars[i];
-        } else {
-            out.copy_from_slice(&self.profiles[i - self.scalars.len()]);
+        for (profile, x) in self.profiles.iter_mut().zip(PROFILE_LINES) {
+            profile.resize(PROFILE_STATIONS, 0.0);
+            t.top.profile(
+                t.solid.nodes(),
+                &t.u,
+                x,
+                stations(),
+                profile,
+                &mut s.sections,
+            );
         }
     }
 }
@@ -73,12 +112,14 @@ fn cut_opening(g: &Geometry, t: &Topology) -> f64 {
 /// its corners and midpoint, so that the output does not depend on where the nodes fall.
 /// Where a cut through the whole height has split the line's nodes (two at one x), the
 /// nodal values.
-fn bottom_lift(g: &Geometry, t: &Topology) -> f64 {
+fn bottom_lift(g: &Geometry, t: &Topology, line: &mut Vec<(f64, f64)>) -> f64 {
     let p = t.solid.nodes();
-    let mut line: Vec<(f64, f64)> = (0..p.len())
-        .filter(|&n| p[n][2] == 0.0 && p[n][1] == g.y_cut)
-        .map(|n| (p[n][0], t.u[3 * n + 2]))
-        .collect();
+    line.clear();
+    line.extend(
+        (0..p.len())
+            .filter(|&n| p[n][2] == 0.0 && p[n][1] == g.y_cut)
+            .map(|n| (p[n][0], t.u[3 * n + 2])),
+    );
     let nodal = line
         .iter()
         .map(|&(_, uz)| uz)
@@ -128,17 +169,21 @@ fn x_contraction(g: &Geometry, t: &Topology) -> f64 {
 
 /// The maximum of the volume-weighted corner-node averages of the elements' von Mises
 /// stress (MPa; seed 002 eq. 4.4) and the largest principal strain, both at the element
-/// centroids ([`stress::solid_centroids`]).
-fn stress_and_strain(t: &Topology) -> (f64, f64) {
-    let centroids = stress::solid_centroids(&t.solid, &t.u);
-    let largest = stress::largest_eigenvalue(centroids.iter().map(|c| c.strain));
-    let von_mises: Vec<f64> = centroids.iter().map(|c| stress::mises(&c.stress)).collect();
-    let volume: Vec<f64> = centroids.iter().map(|c| c.volume).collect();
-    let corners: Vec<[usize; 4]> = (0..t.solid.len()).map(|e| t.solid.corners(e)).collect();
-    let max = stress::nodal_average(t.solid.nodes().len(), &corners, &volume, &von_mises)
-        .into_iter()
-        .fold(0.0, f64::max);
-    (max, largest)
+/// centroids ([`stress::solid_centroids`]), computed in one pass over the elements.
+fn stress_and_strain(t: &Topology, s: &mut Scratch) -> (f64, f64) {
+    let elements = &mut s.elements;
+    elements.clear();
+    let largest = stress::largest_eigenvalue(stress::solid_centroids(&t.solid, &t.u).map(|c| {
+        elements.push((stress::mises(&c.stress), c.volume));
+        c.strain
+    }));
+    let n = t.solid.nodes().len();
+    s.average.resize(n, 0.0);
+    s.weight.resize(n, 0.0);
+    let weighted = (s.elements.iter().enumerate())
+        .map(|(e, &(von_mises, volume))| (t.solid.corners(e), volume, von_mises));
+    stress::nodal_average(weighted, &mut s.average, &mut s.weight);
+    (s.average.iter().copied().fold(0.0, f64::max), largest)
 }
 
 /// Whether the largest principal strain of the linear law (ε = sym(F − I) at the element
@@ -148,7 +193,6 @@ pub fn strain_beyond(t: &Topology, limit: f64) -> Option<f64> {
     let strains = t
         .solid
         .centroids(&t.u)
-        .into_iter()
         .map(|(f, _)| 0.5 * (f + f.transpose()) - nalgebra::Matrix3::identity())
         .filter(|e| stress::largest_eigenvalue_bound(e) > limit);
     Some(stress::largest_eigenvalue(strains)).filter(|&largest| largest > limit)

@@ -185,8 +185,16 @@ impl TopSurface {
     /// in order of reference y. Each row of reference y is sampled every [`SAMPLE_X`]
     /// within [`WINDOW`] of the line; the crossing is interpolated between the two samples
     /// whose deformed x straddle the line, searched outwards from the previous row's
-    /// crossing (the first row's from x = `line`), so a row costs a few samples.
-    fn section(&self, nodes: &[[f64; 3]], u: &[f64], line: f64, front: bool) -> Vec<[f64; 2]> {
+    /// crossing (the first row's from x = `line`), so a row costs a few samples. Into `out`
+    /// (cleared first).
+    fn section(
+        &self,
+        nodes: &[[f64; 3]],
+        u: &[f64],
+        line: f64,
+        front: bool,
+        out: &mut Vec<[f64; 2]>,
+    ) {
         let (from, to) = if front {
             (0.0, self.y_cut)
         } else {
@@ -198,7 +206,7 @@ impl TopSurface {
         let columns = ((hi - lo) / SAMPLE_X).round() as usize;
         let column_x = |c: usize| lo + (hi - lo) * c as f64 / columns.max(1) as f64;
         let mut guess = (((line - lo) / (hi - lo).max(1e-300)) * columns as f64).round() as usize;
-        let mut out = Vec::with_capacity(rows + 1);
+        out.clear();
         for r in 0..=rows {
             let y = from + (to - from) * r as f64 / rows.max(1) as f64;
             // The segment between columns c − 1 and c, if it crosses the line.
@@ -220,28 +228,29 @@ impl TopSurface {
                 out.push(point);
             }
         }
-        out
     }
 
-    /// Heights at lab-frame stations `ys` along the scan line x = `line` (NaN: no surface).
+    /// Heights at lab-frame stations `ys` along the scan line x = `line` (NaN: no surface),
+    /// into `heights` (one per station), the two flanks' sections made in `sections`
+    /// (allocating only while they grow).
     pub fn profile(
         &self,
         nodes: &[[f64; 3]],
         u: &[f64],
         line: f64,
         ys: impl Iterator<Item = f64>,
-    ) -> Vec<f64> {
-        let sides = [
-            self.section(nodes, u, line, true),
-            self.section(nodes, u, line, false),
-        ];
-        ys.map(|y| {
-            sides
+        heights: &mut [f64],
+        sections: &mut [Vec<[f64; 2]>; 2],
+    ) {
+        let [front, back] = sections;
+        self.section(nodes, u, line, true, front);
+        self.section(nodes, u, line, false, back);
+        for (h, y) in heights.iter_mut().zip(ys) {
+            *h = [&*front, &*back]
                 .iter()
                 .filter_map(|s| height(s, y))
-                .fold(f64::NAN, |a, b| if a.is_nan() || b > a { b } else { a })
-        })
-        .collect()
+                .fold(f64::NAN, |a, b| if a.is_nan() || b > a { b } else { a });
+        }
     }
 }
 

@@ -78,8 +78,9 @@ impl Solver {
         spare: Option<Spare>,
     ) -> Result<Self, SceneError> {
         if let Some(Spare(mut spare)) = spare.filter(|s| s.0.shares_analysis(self)) {
-            if let Self::Newton(n) = &mut spare {
-                n.recycle(settings)?;
+            match &mut spare {
+                Self::Newton(n) => n.recycle(settings)?,
+                Self::Linear { statics, .. } => statics.invalidate(),
             }
             return Ok(spare);
         }
@@ -479,9 +480,12 @@ impl Topology {
         Ok(t)
     }
 
-    /// The solver, for the next topology of its pattern ([`Spare`]).
-    pub fn into_spare(self) -> Spare {
-        Spare(self.solver)
+    /// The solver, for the next topology of `next`'s pattern ([`Spare`]); `None` if it has
+    /// another pattern, so that no storage is held that cannot be reused.
+    pub fn into_spare(self, next: &Topology) -> Option<Spare> {
+        self.solver
+            .shares_analysis(&next.solver)
+            .then_some(Spare(self.solver))
     }
 
     /// The node lists of the solid's elements and the contact's.
