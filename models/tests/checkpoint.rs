@@ -36,14 +36,14 @@ fn build(make: fn() -> Box<dyn Scene>, (reals, strings): Settings<'_>) -> Box<dy
 
 /// Steps `from..to` of size `h` with `inputs`, every output's bits after each.
 fn run(s: &mut dyn Scene, inputs: Inputs, h: f64, from: usize, to: usize) -> Vec<u64> {
-    let outputs: Vec<(u32, usize)> = outputs(s.variables()).map(|v| (v.vr, v.len)).collect();
+    let outs: Vec<(u32, usize)> = outputs(s.variables()).map(|v| (v.vr, v.len)).collect();
     let mut bits = Vec::new();
     for k in from..to {
         for (n, v) in inputs(k) {
             set(s, n, v);
         }
         s.do_step(k as f64 * h, h).unwrap();
-        for &(vr, len) in &outputs {
+        for &(vr, len) in &outs {
             let mut x = vec![0.0; len];
             s.get_real(vr, &mut x).unwrap();
             bits.extend(x.iter().map(|x| x.to_bits()));

@@ -291,8 +291,9 @@ fn a_kept_factorization_reaches_the_same_equilibrium_with_fewer_factorizations()
 /// A solver done with (a pull and a press) and recycled ([`Newton::recycle`]: its storage
 /// kept, its state reset) solves the next equations of its pattern exactly as a new one of
 /// that pattern ([`Newton::same_pattern`]) does: the same iterations and factorizations, bit
-/// for bit the same displacements and the same checkpoint (load, kept tangent's state). The equations change as at a blade advance within a cell: the same
-/// connectivity with the nodes moved (a longer block), and another ν.
+/// for bit the same displacements and the same checkpoint (load, kept tangent's state).
+/// The equations change as at a blade advance within a cell: the same connectivity with
+/// the nodes moved (a taller block), and another ν.
 #[test]
 fn a_recycled_solver_solves_as_a_new_one_of_its_pattern() {
     for factorization in [

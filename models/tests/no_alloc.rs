@@ -133,11 +133,11 @@ fn abdomen_step_and_outputs_allocate_nothing() {
         s.set_str("model_order", order).unwrap();
         s.set("modes", 20.0).unwrap();
         s.initialize(0.0).unwrap();
-        let outputs: Vec<u32> = outputs(s.variables()).map(|v| v.vr).collect();
+        let outs: Vec<u32> = outputs(s.variables()).map(|v| v.vr).collect();
         let mut x = [0.0];
         s.do_step(0.0, 1e-3).unwrap();
         // The first read of the error indicator factorizes its stiffness: once.
-        for &vr in &outputs {
+        for &vr in &outs {
             s.get_real(vr, &mut x).unwrap();
         }
         let steps = allocations_during(|| {
@@ -148,7 +148,7 @@ fn abdomen_step_and_outputs_allocate_nothing() {
         let reads = allocations_during(|| {
             for k in 20..40 {
                 s.do_step(f64::from(k) * 1e-3, 1e-3).unwrap();
-                for &vr in &outputs {
+                for &vr in &outs {
                     s.get_real(vr, &mut x).unwrap();
                 }
             }
@@ -299,7 +299,7 @@ fn finite_strain_steps_allocate_nothing() {
 
 /// Reading every output of the cut block allocates nothing once the output buffers have
 /// grown to the mesh (the first read after the blade moved): after steps of the pull with
-/// the flanks open and closed (contact held), linear and neo-Hookean, tet4 and tet10.
+/// the flanks open and closed (contact held); linear tet4, neo-Hookean tet4 and tet10.
 #[test]
 fn cutblock_output_reads_allocate_nothing() {
     use models::scene::cutblock::CutBlock;
@@ -317,24 +317,23 @@ fn cutblock_output_reads_allocate_nothing() {
         s.set("cells_y", 8.0).unwrap();
         s.set("cells_z", 6.0).unwrap();
         s.initialize(0.0).unwrap();
-        let outputs: Vec<(u32, usize)> = outputs(s.variables()).map(|v| (v.vr, v.len)).collect();
-        let mut x = vec![0.0; outputs.iter().map(|o| o.1).max().unwrap()];
+        let outs: Vec<(u32, usize)> = outputs(s.variables()).map(|v| (v.vr, v.len)).collect();
+        let mut x = vec![0.0; outs.iter().map(|o| o.1).max().unwrap()];
         let mut read_all = |s: &mut CutBlock| {
-            for &(vr, n) in &outputs {
+            for &(vr, n) in &outs {
                 s.get_real(vr, &mut x[..n]).unwrap();
             }
         };
         s.set("scalpel_x", 60.0).unwrap();
         s.do_step(0.0, 1.0).unwrap();
         read_all(&mut s);
-        let mut held = 0.0;
         for pull in [2.0, 3.0, -2.0, -2.5] {
             s.set("pull", pull).unwrap();
             s.do_step(0.0, 1.0).unwrap();
             let n = allocations_during(|| read_all(&mut s));
             assert_eq!(n, 0, "{material} {element} at pull {pull}: {n} allocations");
-            held = s.get("contact_points").unwrap();
+            let held = s.get("contact_points").unwrap();
+            assert_eq!(held > 0.0, pull < 0.0, "{material} {element}: {held} held");
         }
-        assert!(held > 0.0, "{material} {element}: the flanks closed");
     }
 }

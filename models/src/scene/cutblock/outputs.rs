@@ -127,7 +127,7 @@ fn bottom_lift(g: &Geometry, t: &Topology, line: &mut Vec<(f64, f64)>) -> f64 {
     if t.solid.kind() != Tetrahedron::Tet10 {
         return nodal;
     }
-    line.sort_by(|a, b| a.0.total_cmp(&b.0));
+    line.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
     let one_node_per_x = line.windows(2).all(|w| w[0].0 < w[1].0);
     if !one_node_per_x || line.len().is_multiple_of(2) {
         return nodal;
@@ -173,6 +173,7 @@ fn x_contraction(g: &Geometry, t: &Topology) -> f64 {
 fn stress_and_strain(t: &Topology, s: &mut Scratch) -> (f64, f64) {
     let elements = &mut s.elements;
     elements.clear();
+    // `largest_eigenvalue` folds over every element, so each is recorded.
     let largest = stress::largest_eigenvalue(stress::solid_centroids(&t.solid, &t.u).map(|c| {
         elements.push((stress::mises(&c.stress), c.volume));
         c.strain

@@ -238,10 +238,11 @@ impl TopSurface {
         nodes: &[[f64; 3]],
         u: &[f64],
         line: f64,
-        ys: impl Iterator<Item = f64>,
+        ys: impl ExactSizeIterator<Item = f64>,
         heights: &mut [f64],
         sections: &mut [Vec<[f64; 2]>; 2],
     ) {
+        debug_assert_eq!(heights.len(), ys.len(), "one height per station");
         let [front, back] = sections;
         self.section(nodes, u, line, true, front);
         self.section(nodes, u, line, false, back);
