@@ -7,7 +7,9 @@ use nalgebra::{Matrix3, SVector};
 
 use super::plane::Continuum;
 use super::Assembler;
-use crate::element::solid::{deformation_at, internal, Reference, Shape, Tet10, Tet4};
+use crate::element::solid::{
+    deformation_at, internal, small_strain_stiffness, Reference, Shape, Tet10, Tet4,
+};
 use crate::element::{tet4, Material};
 use crate::error::ModelError;
 use crate::mesh::{Mesh3d, QuadraticMesh};
@@ -173,6 +175,20 @@ impl Solid {
         }
     }
 
+    /// Adds the small-strain stiffness of the linear law (λ, μ of the material, whatever
+    /// its law) to `k` (values on `asm`'s pattern, whose first elements are these): the
+    /// tangent [`Self::add_internal`] gives for the linear law, in closed form
+    /// ([`small_strain_stiffness`]).
+    pub fn add_stiffness(&self, asm: &Assembler, k: &mut [f64]) -> Result<(), ModelError> {
+        let (r, m) = (&self.reference, &self.material);
+        let zero = vec![0.0; self.n_dofs()];
+        let mut f = zero.clone();
+        match &self.elements {
+            Elements::Tet4(e) => stiffness_of::<Tet4, 4, 12>(r, e, m, asm, &zero, &mut f, k),
+            Elements::Tet10(e) => stiffness_of::<Tet10, 10, 30>(r, e, m, asm, &zero, &mut f, k),
+        }
+    }
+
     /// The deformation gradient at each element's centroid and the element's volume, in
     /// element order (computed as iterated: nothing is allocated).
     pub fn centroids<'a>(&'a self, u: &'a [f64]) -> impl Iterator<Item = (Matrix3<f64>, f64)> + 'a {
@@ -226,6 +242,23 @@ fn add<S: Shape<N>, const N: usize, const D: usize>(
 ) -> Result<(), ModelError> {
     super::add_internal(elements, 0, asm, u, f, k, |e, ue, fe, ke| {
         internal::<S, N, D>(&reference[e], ue, material, fe, ke)
+    })
+}
+
+fn stiffness_of<S: Shape<N>, const N: usize, const D: usize>(
+    reference: &[Reference],
+    elements: &[[usize; N]],
+    material: &Material,
+    asm: &Assembler,
+    zero: &[f64],
+    f: &mut [f64],
+    k: &mut [f64],
+) -> Result<(), ModelError> {
+    super::add_internal(elements, 0, asm, zero, f, Some(k), |e, _, _, ke| {
+        if let Some(ke) = ke {
+            small_strain_stiffness::<S, N, D>(&reference[e], material, ke);
+        }
+        Ok(())
     })
 }
 

@@ -113,7 +113,9 @@ pub fn deformation_at<S: Shape<N>, const N: usize, const D: usize>(
 }
 
 /// Adds the internal force of one element (reference configuration `reference`, node-major
-/// displacements `u`) to `force`, and its tangent to `tangent` when given. D = 3N.
+/// displacements `u`) to `force`, and its tangent to `tangent` when given (symmetric on
+/// entry, as the assembly's zeros are: its blocks below the diagonal are copied from above,
+/// [`mirror`]). D = 3N.
 pub fn internal<S: Shape<N>, const N: usize, const D: usize>(
     reference: &Reference,
     u: &SVector<f64, D>,
@@ -144,10 +146,44 @@ pub fn internal<S: Shape<N>, const N: usize, const D: usize>(
             add_tangent(k, &grads, &(material.tangent(&f) * scale));
         }
     }
+    if let Some(k) = tangent {
+        mirror(k);
+    }
     Ok(())
 }
 
-/// K_ab,ik += Σ_JL ∇N_a,J A_(iJ)(kL) ∇N_b,L, through T_b = A (∇N_b ⊗ I) (9 × 3 per node).
+/// The small-strain stiffness of one element of the linear law (`material`'s λ, μ):
+/// K_ab,ik = Σ_q w_q V [λ ∇N_a,i ∇N_b,k + μ ∇N_a,k ∇N_b,i + μ δ_ik (∇N_a · ∇N_b)], the
+/// kernel's tangent with the isotropic A_(iJ)(kL) = λ δ_iJ δ_kL + μ (δ_ik δ_JL + δ_iL δ_Jk)
+/// contracted by hand (seed 003 App. C: Bᵀ D B), added to `k` (symmetric on entry, as the
+/// assembly's zeros are: its blocks below the diagonal are copied from above, [`mirror`]).
+pub fn small_strain_stiffness<S: Shape<N>, const N: usize, const D: usize>(
+    reference: &Reference,
+    material: &Material,
+    k: &mut SMatrix<f64, D, D>,
+) {
+    let (lambda, mu) = (material.elastic.lambda(), material.elastic.shear());
+    for (l, w) in S::RULE {
+        let g = S::gradients(l, &reference.gradients);
+        let scale = w * reference.volume;
+        for b in 0..N {
+            for a in 0..=b {
+                let dot = scale * mu * (0..3).map(|d| g[(a, d)] * g[(b, d)]).sum::<f64>();
+                for i in 0..3 {
+                    for kk in 0..3 {
+                        k[(3 * a + i, 3 * b + kk)] +=
+                            scale * (lambda * g[(a, i)] * g[(b, kk)] + mu * g[(a, kk)] * g[(b, i)]);
+                    }
+                    k[(3 * a + i, 3 * b + i)] += dot;
+                }
+            }
+        }
+    }
+    mirror(k);
+}
+
+/// K_ab,ik += Σ_JL ∇N_a,J A_(iJ)(kL) ∇N_b,L for the blocks a ≤ b, through
+/// T_b = A (∇N_b ⊗ I) (9 × 3 per node); the blocks below follow by [`mirror`].
 fn add_tangent<const N: usize, const D: usize>(
     k: &mut SMatrix<f64, D, D>,
     grads: &SMatrix<f64, N, 3>,
@@ -162,13 +198,24 @@ fn add_tangent<const N: usize, const D: usize>(
                     .sum();
             }
         }
-        for n in 0..N {
+        for n in 0..=b {
             for i in 0..3 {
                 for kk in 0..3 {
                     let s: f64 = (0..3).map(|jj| grads[(n, jj)] * t[3 * i + jj][kk]).sum();
                     k[(3 * n + i, 3 * b + kk)] += s;
                 }
             }
+        }
+    }
+}
+
+/// K_ba = K_abᵀ for the blocks below the diagonal: every law here is hyperelastic, so
+/// A_(iJ)(kL) = ∂²W/∂F_iJ∂F_kL = A_(kL)(iJ) and the element tangent is symmetric; it is
+/// computed above the diagonal only (a third fewer products for tet10) and copied below.
+fn mirror<const D: usize>(k: &mut SMatrix<f64, D, D>) {
+    for column in 0..D {
+        for row in 3 * (column / 3 + 1)..D {
+            k[(row, column)] = k[(column, row)];
         }
     }
 }
@@ -238,6 +285,27 @@ mod tests {
         let closed = tet4::stiffness(&P, &m.elastic.solid());
         assert!((k - closed).amax() < 1e-13 * closed.amax());
         assert!((f - closed * u).amax() < 1e-13 * f.amax());
+    }
+
+    /// The closed-form small-strain stiffness is the kernel's tangent of the linear law,
+    /// for both shapes.
+    #[test]
+    fn the_small_strain_stiffness_is_the_linear_laws_tangent() {
+        fn check<S: Shape<N>, const N: usize, const D: usize>() {
+            let m = material(Law::Linear);
+            let r = Reference::new(&P);
+            let (mut f, mut k) = (SVector::<f64, D>::zeros(), SMatrix::<f64, D, D>::zeros());
+            internal::<S, N, D>(&r, &SVector::zeros(), &m, &mut f, Some(&mut k)).unwrap();
+            let mut closed = SMatrix::<f64, D, D>::zeros();
+            small_strain_stiffness::<S, N, D>(&r, &m, &mut closed);
+            assert!(
+                (k - closed).amax() < 1e-14 * k.amax(),
+                "{}",
+                (k - closed).amax()
+            );
+        }
+        check::<Tet4, 4, 12>();
+        check::<Tet10, 10, 30>();
     }
 
     /// A collapsed element is refused by the finite-strain laws, not by the linear one.

@@ -8,6 +8,11 @@ use std::collections::{HashMap, HashSet};
 #[derive(Debug, Clone, Default)]
 pub struct MidEdges(HashMap<(usize, usize), usize>);
 
+/// The midpoint of `p` and `r`.
+fn midpoint<const D: usize>(p: [f64; D], r: [f64; D]) -> [f64; D] {
+    std::array::from_fn(|d| 0.5 * (p[d] + r[d]))
+}
+
 /// The corner pair of an edge, smaller index first.
 pub fn key(a: usize, b: usize) -> (usize, usize) {
     (a.min(b), a.max(b))
@@ -22,10 +27,16 @@ impl MidEdges {
     /// edge is new.
     pub fn node<const D: usize>(&mut self, a: usize, b: usize, nodes: &mut Vec<[f64; D]>) -> usize {
         *self.0.entry(key(a, b)).or_insert_with(|| {
-            let (p, r) = (nodes[a], nodes[b]);
-            nodes.push(std::array::from_fn(|d| 0.5 * (p[d] + r[d])));
+            nodes.push(midpoint(nodes[a], nodes[b]));
             nodes.len() - 1
         })
+    }
+
+    /// Puts every mid-edge node of `nodes` at the midpoint of its edge's corners there.
+    pub fn place<const D: usize>(&self, nodes: &mut [[f64; D]]) {
+        for (&(a, b), &m) in &self.0 {
+            nodes[m] = midpoint(nodes[a], nodes[b]);
+        }
     }
 
     /// The mid-edge node between corners `a` and `b`, if they share an edge.

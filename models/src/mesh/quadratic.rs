@@ -39,6 +39,20 @@ impl QuadraticMesh {
         Self { nodes, tets, mid }
     }
 
+    /// The mesh on `corners`, the linear mesh it was derived from with its nodes moved: the
+    /// corners at their new positions, every mid-edge node at its edge's new midpoint (the
+    /// same nodes, to the bit, as [`Self::new`] of `corners` makes).
+    pub fn moved(&self, corners: &Mesh3d) -> Self {
+        let mut nodes = self.nodes.clone();
+        nodes[..corners.nodes().len()].copy_from_slice(corners.nodes());
+        self.mid.place(&mut nodes);
+        Self {
+            nodes,
+            tets: self.tets.clone(),
+            mid: self.mid.clone(),
+        }
+    }
+
     pub fn nodes(&self) -> &[[f64; 3]] {
         &self.nodes
     }

@@ -43,6 +43,27 @@ impl Mesh3d {
         Ok(mesh)
     }
 
+    /// The mesh with its nodes at `nodes` (one position per node): the tetrahedra, boundary
+    /// faces and node sets kept, the shapes checked again (a boundary face keeps its
+    /// outward orientation while no tetrahedron inverts).
+    pub fn moved(&self, nodes: Vec<[f64; 3]>) -> Result<Self, ModelError> {
+        if nodes.len() != self.nodes.len() {
+            return Err(ModelError::SizeMismatch {
+                name: "moved mesh nodes",
+                expected: self.nodes.len(),
+                got: nodes.len(),
+            });
+        }
+        let mesh = Self {
+            nodes,
+            tets: self.tets.clone(),
+            boundary: self.boundary.clone(),
+            node_sets: self.node_sets.clone(),
+        };
+        mesh.check_shapes()?;
+        Ok(mesh)
+    }
+
     fn check_shapes(&self) -> Result<(), ModelError> {
         let tol = DEGENERATE_TOL * self.extent().powi(3);
         for index in 0..self.tets.len() {
