@@ -85,7 +85,10 @@ fn the_incision_ends_at_the_furthest_blade_position() {
             x
         })
         .collect();
-    path.extend([33.333333333333336, 20.0, 100.0, 150.0, 0.0]);
+    // Within SNAP h of either end face, where the mesh takes the front as the face.
+    let near = 0.5 * SNAP * 100.0 / 3.0;
+    path.insert(0, near);
+    path.extend([33.333333333333336, 20.0, 100.0 - near, 100.0, 150.0, 0.0]);
     for (material, element) in [
         ("linear", "tet4"),
         ("linear", "tet10"),

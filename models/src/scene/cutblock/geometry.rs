@@ -251,7 +251,17 @@ impl Geometry {
         self.size[0] / self.cells_x as f64
     }
 
-    /// Where the incision ends when the blade has reached `x` at the furthest: `x` clamped
+    /// How far the incision reaches when the blade has reached `x` at the furthest: `x`
+    /// clamped to the block; 0 without a cut depth (the `cut_length` output).
+    pub fn reach(&self, x: f64) -> f64 {
+        if self.z_cut.is_none() {
+            0.0
+        } else {
+            x.clamp(0.0, self.size[0])
+        }
+    }
+
+    /// Where the mesh's incision ends when the blade has reached `x` at the furthest: `x` clamped
     /// to the block, within [`SNAP`] of a cell of an end face taken as that face; 0 without
     /// a cut depth.
     pub fn front(&self, x: f64) -> f64 {

@@ -68,6 +68,9 @@ pub struct CutBlock {
     topology: Option<Topology>,
     /// The last replaced topology's solver, for the next of its pattern.
     spare: Option<Spare>,
+    /// How far the incision reaches: the furthest the blade has been, clamped to the block
+    /// (the mesh's front is this within [`SNAP`] h of an end face, taken as the face).
+    reached: f64,
     outputs: Outputs,
     work: Work,
     /// Warnings not yet taken, and whether the strain, the contact and the press warnings
@@ -84,6 +87,9 @@ pub struct State {
     values: ValuesState,
     initialized: bool,
     topology: Option<TopologyState>,
+    /// Absent in states saved before it: the topology's front.
+    #[serde(default)]
+    reached: Option<f64>,
     work: Work,
     warnings: Vec<String>,
     warned_strain: bool,
@@ -159,6 +165,7 @@ impl CutBlock {
             geometry: None,
             topology: None,
             spare: None,
+            reached: 0.0,
             outputs: Outputs::default(),
             work: Work::default(),
             warnings: Vec::new(),
@@ -336,8 +343,8 @@ impl CutBlock {
             self.values.real(SCALPEL),
         );
         // The incision never heals: it reaches as far as the blade has been.
-        let reached = self.topology.as_ref().map_or(0.0, |t| t.front);
-        let front = geometry.front(scalpel.max(reached));
+        let reached = geometry.reach(scalpel).max(self.reached);
+        let front = geometry.front(reached);
         match &mut self.topology {
             Some(t) if t.front == front => {
                 t.set_material(material)?;
@@ -379,6 +386,7 @@ impl CutBlock {
                 self.work.topology_builds += 1;
             }
         }
+        self.reached = reached;
         self.work.solves += 1;
         self.outputs.invalidate();
         self.check_strain();
@@ -423,7 +431,7 @@ impl Scene for CutBlock {
             });
         };
         self.outputs
-            .read(geometry, topology, vr - FIRST_OUTPUT, out);
+            .read(geometry, topology, self.reached, vr - FIRST_OUTPUT, out);
         Ok(())
     }
 
@@ -453,7 +461,7 @@ impl Scene for CutBlock {
         let geometry = budget::within(limit, || self.geometry_from_values())?;
         self.warnings.extend(geometry.warnings.iter().cloned());
         self.geometry = Some(geometry);
-        (self.topology, self.spare) = (None, None);
+        (self.topology, self.spare, self.reached) = (None, None, 0.0);
         self.warned_strain = false;
         self.warned_contact = false;
         self.warned_press = false;
@@ -471,6 +479,7 @@ impl Scene for CutBlock {
             values: self.values.save(),
             initialized: self.geometry.is_some(),
             topology: self.topology.as_ref().map(Topology::checkpoint),
+            reached: Some(self.reached),
             work: self.work,
             warnings: self.warnings.clone(),
             warned_strain: self.warned_strain,
@@ -511,9 +520,13 @@ impl Scene for CutBlock {
         } else {
             (None, None)
         };
+        let reached = s
+            .reached
+            .unwrap_or_else(|| topology.as_ref().map_or(0.0, |t| t.front));
         *self = Self {
             geometry,
             topology,
+            reached,
             work: s.work,
             warnings: s.warnings.clone(),
             warned_strain: s.warned_strain,

@@ -38,11 +38,11 @@ impl Outputs {
         self.fresh = false;
     }
 
-    /// Output number `index` (table order from the first output) of the state `t` into
-    /// `out`.
-    pub fn read(&mut self, g: &Geometry, t: &Topology, index: u32, out: &mut [f64]) {
+    /// Output number `index` (table order from the first output) of the state `t`, whose
+    /// incision reaches `reached`, into `out`.
+    pub fn read(&mut self, g: &Geometry, t: &Topology, reached: f64, index: u32, out: &mut [f64]) {
         if !self.fresh {
-            self.compute(g, t);
+            self.compute(g, t, reached);
             self.fresh = true;
         }
         let i = index as usize;
@@ -53,7 +53,7 @@ impl Outputs {
         }
     }
 
-    fn compute(&mut self, g: &Geometry, t: &Topology) {
+    fn compute(&mut self, g: &Geometry, t: &Topology, reached: f64) {
         let s = &mut self.scratch;
         let (von_mises, strain) = stress_and_strain(t, s);
         self.scalars = [
@@ -62,7 +62,7 @@ impl Outputs {
             bottom_lift(g, t, &mut s.line),
             x_contraction(g, t),
             von_mises,
-            t.front,
+            reached,
             t.contact.as_ref().map_or(0.0, |c| c.active.len() as f64),
             t.contact.as_ref().map_or(0.0, |c| c.penetration),
             strain,
