@@ -3,6 +3,8 @@ and read the result as JSON.
 
     python examples/python/identify_specimen.py --data my_data --set B
     python examples/python/identify_specimen.py --set A            # a shipped set
+    python examples/python/identify_specimen.py --set A --nu 0.43 --material linear \
+        --element tet4                                  # E alone at a given ν, the fast path
 
 `my_data/` holds `specimen_B.toml`, `force_displacement_B.csv` and, if scanned,
 `profile_B_x<X>.csv` per scan line (formats: docs/reference/data-formats.md). The fit runs

@@ -4,13 +4,16 @@
 //!
 //! Run: `cargo bench -p fmu --bench overhead`.
 
+// Unsafe code: the benchmark calls the FMI 2.0 C ABI.
+#![allow(unsafe_code)]
+
 use std::ffi::CString;
 use std::ptr::null;
 
 use divan::Bencher;
+use fmu::addressing::fmi2_scalars;
+use fmu::exports::EXPORTS;
 use fmu::fmi2::*;
-use fmu::instance::fmi2_scalars;
-use fmu::model::MODELS;
 
 fn main() {
     divan::main();
@@ -25,7 +28,7 @@ const CASES: [(usize, &str, [f64; 2], &str); 2] = [
 #[divan::bench(args = [0, 1])]
 fn in_process(bencher: Bencher, case: usize) {
     let (model, input, values, output) = CASES[case];
-    let mut scene = (MODELS[model].create)();
+    let mut scene = (EXPORTS[model].create)();
     scene.initialize(0.0).unwrap();
     let (vin, vout) = (scene.lookup(input).unwrap(), scene.lookup(output).unwrap());
     let (mut t, mut k) = (0.0, 0);
@@ -42,8 +45,8 @@ fn in_process(bencher: Bencher, case: usize) {
 #[divan::bench(args = [0, 1])]
 fn through_fmi2(bencher: Bencher, case: usize) {
     let (model, input, values, output) = CASES[case];
-    let guid = CString::new(MODELS[model].token()).unwrap();
-    let scalars = fmi2_scalars((MODELS[model].create)().variables());
+    let guid = CString::new(EXPORTS[model].token()).unwrap();
+    let scalars = fmi2_scalars((EXPORTS[model].create)().variables());
     let vr = |n: &str| scalars.iter().position(|s| s.name == n).unwrap() as u32;
     let (vin, vout) = (vr(input), vr(output));
     let c = unsafe { fmi2Instantiate(c"bench".as_ptr(), 1, guid.as_ptr(), null(), null(), 0, 0) };

@@ -5,13 +5,16 @@
 //!
 //! Run: `cargo bench -p fmu --bench state`.
 
+// Unsafe code: the benchmark calls the C ABI.
+#![allow(unsafe_code)]
+
 use std::ffi::CString;
 use std::ptr::{null, null_mut};
 
 use divan::Bencher;
+use fmu::addressing::fmi2_scalars;
+use fmu::exports::EXPORTS;
 use fmu::fmi2::*;
-use fmu::instance::fmi2_scalars;
-use fmu::model::MODELS;
 
 fn main() {
     divan::main();
@@ -19,9 +22,9 @@ fn main() {
 
 /// An instance of model `m` (0 abdomen, 1 cut block) advanced past its start.
 fn advanced(m: usize) -> fmi2Component {
-    let token = CString::new(MODELS[m].token()).unwrap();
+    let token = CString::new(EXPORTS[m].token()).unwrap();
     let c = unsafe { fmi2Instantiate(c"bench".as_ptr(), 1, token.as_ptr(), null(), null(), 0, 0) };
-    let scalars = fmi2_scalars((MODELS[m].create)().variables());
+    let scalars = fmi2_scalars((EXPORTS[m].create)().variables());
     let vr = |n: &str| scalars.iter().position(|s| s.name == n).unwrap() as u32;
     unsafe {
         fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0);
@@ -67,7 +70,7 @@ fn serialize(bencher: Bencher, m: usize) {
         let mut s = s;
         unsafe { fmi2FreeFMUstate(c, &mut s) };
     });
-    println!("{}: serialized state {size} bytes", MODELS[m].identifier);
+    println!("{}: serialized state {size} bytes", EXPORTS[m].identifier);
 }
 
 #[divan::bench(args = [0, 1], sample_count = 20)]

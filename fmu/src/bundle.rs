@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use models::scene::Start;
 use zip::write::SimpleFileOptions;
 
-use crate::model::{Model, Version, MODELS};
+use crate::exports::{Export, Version, EXPORTS};
 use crate::xml;
 
 /// Binary folder name for this platform (FMI 2: `linux64`; FMI 3: `x86_64-linux`).
@@ -25,7 +25,7 @@ fn platform(version: Version) -> Result<&'static str, String> {
 }
 
 /// The defaults of a model's parameters and inputs, as a readable TOML-like listing.
-fn defaults(model: &Model) -> String {
+fn defaults(model: &Export) -> String {
     let scene = (model.create)();
     let mut s = format!(
         "# Start values of `{}` (generated from its variable table)\n",
@@ -43,7 +43,7 @@ fn defaults(model: &Model) -> String {
 
 /// Writes one archive; returns its path.
 pub fn write(
-    model: &Model,
+    model: &Export,
     version: Version,
     library: &Path,
     out_dir: &Path,
@@ -85,7 +85,7 @@ pub fn write(
 /// Writes every model in both versions.
 pub fn write_all(library: &Path, out_dir: &Path) -> Result<Vec<PathBuf>, String> {
     let mut written = Vec::new();
-    for model in &MODELS {
+    for model in &EXPORTS {
         for version in [Version::Fmi2, Version::Fmi3] {
             written.push(write(model, version, library, out_dir)?);
         }

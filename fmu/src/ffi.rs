@@ -5,12 +5,16 @@
 //! logging, real and string get/set, value types the models do not have). `fmi2.rs` and
 //! `fmi3.rs` only convert their arguments into calls of these.
 
+// Unsafe code: the C side of the FMI ABI: strings, arrays and instance handles from raw pointers.
+#![allow(unsafe_code)]
+
 use std::ffi::{c_char, c_int, c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::Arc;
 
-use crate::instance::{Call, Instance, Log, Status};
-use crate::model::Version;
+use crate::exports::Version;
+use crate::instance::{Instance, Log};
+use crate::machine::{Call, Status};
 use crate::state::FmuState;
 
 /// Reads a C string; `None` for null or invalid UTF-8.
@@ -471,8 +475,8 @@ mod tests {
     use std::sync::{Arc, Mutex};
 
     use super::*;
-    use crate::instance::Phase;
-    use crate::model::{Version, MODELS};
+    use crate::exports::{Version, EXPORTS};
+    use crate::machine::Phase;
 
     /// A panic inside an entry point's work is an Error status at the boundary, logged with
     /// its message; the instance then refuses steps but still answers get, and frees.
@@ -481,7 +485,7 @@ mod tests {
         let logged = Arc::new(Mutex::new(Vec::<(Status, String)>::new()));
         let sink = Arc::clone(&logged);
         let log: Log = Arc::new(move |s, _, m| sink.lock().unwrap().push((s, m.to_string())));
-        let token = MODELS[1].token();
+        let token = EXPORTS[1].token();
         let c = Instance::into_handle(Instance::create(
             Version::Fmi3,
             Some(&token),

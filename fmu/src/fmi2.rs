@@ -2,23 +2,41 @@
 //! the [`Instance`] core inside a panic guard; no scene logic lives here.
 
 #![allow(non_snake_case, non_camel_case_types)]
+// Unsafe code: the FMI 2.0 C ABI.
+#![allow(unsafe_code)]
 
 use std::ffi::{c_char, c_int, c_uint, c_void, CStr, CString};
 
+use crate::exports::Version;
 use crate::ffi::{self, guard};
-use crate::instance::{Call, Instance, Log, Status};
-use crate::model::Version;
+use crate::instance::{Instance, Log};
+use crate::machine::{Call, Status};
 
+/// `fmi2Component` (FMI 2.0 §2.1.2): the opaque instance handle; here a boxed [`Instance`].
 pub type fmi2Component = *mut c_void;
+/// `fmi2ComponentEnvironment` (FMI 2.0 §2.1.2): the importer's opaque pointer, handed
+/// back to its callbacks unchanged.
 pub type fmi2ComponentEnvironment = *mut c_void;
+/// `fmi2FMUstate` (FMI 2.0 §2.1.2, §2.1.8): an opaque saved FMU state; here a boxed
+/// [`crate::state::FmuState`].
 pub type fmi2FMUstate = *mut c_void;
+/// `fmi2ValueReference` (FMI 2.0 §2.1.2): the handle of a variable, here one per scalar
+/// (see [`crate::addressing`]).
 pub type fmi2ValueReference = c_uint;
+/// `fmi2Real` (FMI 2.0 §2.1.2): C `double`.
 pub type fmi2Real = f64;
+/// `fmi2Integer` (FMI 2.0 §2.1.2): C `int`.
 pub type fmi2Integer = c_int;
+/// `fmi2Boolean` (FMI 2.0 §2.1.2): C `int`, `fmi2True` = 1, `fmi2False` = 0.
 pub type fmi2Boolean = c_int;
+/// `fmi2String` (FMI 2.0 §2.1.2): a NUL-terminated C string (`const char*`).
 pub type fmi2String = *const c_char;
+/// `fmi2Status` (FMI 2.0 §2.1.3): the status a call returns, codes 0–4 as in [`Status`].
 pub type fmi2Status = c_int;
 
+/// `fmi2CallbackLogger` (FMI 2.0 §2.1.5): the importer's printf-style logger (environment,
+/// instance name, status, category, format, arguments). Messages are passed through a
+/// `"%s"` format.
 pub type fmi2CallbackLogger = Option<
     unsafe extern "C" fn(
         fmi2ComponentEnvironment,
@@ -33,10 +51,17 @@ pub type fmi2CallbackLogger = Option<
 /// fmi2CallbackFunctions (FMI 2.0 §2.1.5).
 #[repr(C)]
 pub struct fmi2CallbackFunctions {
+    /// The importer's logger; without one, messages are dropped.
     pub logger: fmi2CallbackLogger,
+    /// The importer's `calloc`-like allocator (count, size). Not used: the FMU allocates
+    /// its own memory (`canNotUseMemoryManagementFunctions="true"`).
     pub allocateMemory: Option<unsafe extern "C" fn(usize, usize) -> *mut c_void>,
+    /// The importer's deallocator for memory from `allocateMemory`. Not used.
     pub freeMemory: Option<unsafe extern "C" fn(*mut c_void)>,
+    /// Called when an asynchronous `fmi2DoStep` finishes. Not used: `fmi2DoStep` finishes
+    /// every step before it returns and never returns `fmi2Pending`.
     pub stepFinished: Option<unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2Status)>,
+    /// The importer's pointer, passed back unchanged as the first argument of `logger`.
     pub componentEnvironment: fmi2ComponentEnvironment,
 }
 
@@ -71,11 +96,16 @@ unsafe fn logger(functions: *const fmi2CallbackFunctions, name: fmi2String) -> L
     })
 }
 
+/// `fmi2GetTypesPlatform` (FMI 2.0 §2.1.4): the `fmi2TypesPlatform` of the header the FMU
+/// was compiled with, `"default"` (the standard's types). A static string; callable at
+/// any time, without an instance.
 #[unsafe(no_mangle)]
 pub extern "C" fn fmi2GetTypesPlatform() -> fmi2String {
     TYPES_PLATFORM.as_ptr()
 }
 
+/// `fmi2GetVersion` (FMI 2.0 §2.1.4): the version of `fmi2Functions.h` the FMU was
+/// compiled with, `"2.0"`. A static string; callable at any time, without an instance.
 #[unsafe(no_mangle)]
 pub extern "C" fn fmi2GetVersion() -> fmi2String {
     VERSION.as_ptr()

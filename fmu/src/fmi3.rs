@@ -5,22 +5,38 @@
 //! they use report an error.
 
 #![allow(non_snake_case, non_camel_case_types)]
+// Unsafe code: the FMI 3.0 C ABI.
+#![allow(unsafe_code)]
 
 use std::ffi::{c_char, c_int, c_uint, c_void, CStr};
 
+use crate::exports::Version;
 use crate::ffi::{self, guard};
-use crate::instance::{Call, Instance, Log, Status};
-use crate::model::Version;
+use crate::instance::{Instance, Log};
+use crate::machine::{Call, Status};
 
+/// `fmi3Instance` (FMI 3.0 §2.2.3): the opaque instance handle; here a boxed [`Instance`].
 pub type fmi3Instance = *mut c_void;
+/// `fmi3InstanceEnvironment` (FMI 3.0 §2.2.3): the importer's opaque pointer, handed
+/// back to its `logMessage` callback unchanged.
 pub type fmi3InstanceEnvironment = *mut c_void;
+/// `fmi3ValueReference` (FMI 3.0 §2.2.3): the handle of a variable, here one per
+/// variable (arrays whole) plus `time` (see [`crate::addressing`]).
 pub type fmi3ValueReference = c_uint;
+/// `fmi3Float64` (FMI 3.0 §2.2.3): C `double`.
 pub type fmi3Float64 = f64;
+/// `fmi3Boolean` (FMI 3.0 §2.2.3): C `bool`.
 pub type fmi3Boolean = bool;
+/// `fmi3FMUState` (FMI 3.0 §2.2.3): an opaque saved FMU state; here a boxed
+/// [`crate::state::FmuState`].
 pub type fmi3FMUState = *mut c_void;
+/// `fmi3String` (FMI 3.0 §2.2.3): a NUL-terminated C string (`const char*`).
 pub type fmi3String = *const c_char;
+/// `fmi3Status` (FMI 3.0 §2.2.4): the status a call returns, codes 0–4 as in [`Status`].
 pub type fmi3Status = c_int;
 
+/// `fmi3LogMessageCallback` (FMI 3.0 §2.3.1): the importer's `logMessage` callback
+/// (environment, status, category, message); without one, messages are dropped.
 pub type fmi3LogMessageCallback =
     Option<unsafe extern "C" fn(fmi3InstanceEnvironment, fmi3Status, fmi3String, fmi3String)>;
 
@@ -45,6 +61,8 @@ fn logger(callback: fmi3LogMessageCallback, env: fmi3InstanceEnvironment) -> Log
     })
 }
 
+/// `fmi3GetVersion` (FMI 3.0 §2.2.5): the version of `fmi3Functions.h` the FMU was
+/// compiled with, `"3.0"`. A static string; callable at any time, without an instance.
 #[unsafe(no_mangle)]
 pub extern "C" fn fmi3GetVersion() -> fmi3String {
     VERSION.as_ptr()

@@ -17,68 +17,13 @@
 use std::ffi::CString;
 use std::sync::Arc;
 
-use models::scene::{seconds, Causality, ErrorKind, Scene, SceneError, Variable, VariableKind};
+use models::error::seconds;
+use models::scene::{Causality, ErrorKind, Scene, SceneError, Variable, VariableKind};
 
-use crate::model::{Model, Version};
+use crate::addressing::{Addressing, Resolved};
+use crate::exports::{Export, Version};
+use crate::machine::{Call, Phase, Status};
 use crate::state::{FmuState, InstanceState};
-
-/// Call status, shared by FMI 2 and FMI 3 (same codes 0–4).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Status {
-    Ok = 0,
-    Warning = 1,
-    Discard = 2,
-    Error = 3,
-    Fatal = 4,
-}
-
-/// Where the instance is in its life cycle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub enum Phase {
-    Instantiated,
-    Initialization,
-    Step,
-    Terminated,
-    /// A step or the initialization failed: only get, reset and free are allowed.
-    Error,
-}
-
-/// The calls the state machine distinguishes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Call {
-    SetupExperiment,
-    EnterInitialization,
-    ExitInitialization,
-    Set,
-    Get,
-    DoStep,
-    Terminate,
-    Reset,
-    SetDebugLogging,
-    /// Getting, setting, freeing, serializing and deserializing FMU states.
-    State,
-}
-
-impl Call {
-    /// Phases in which the call is allowed (FMI 2.0 §4.2.4 state machine; FMI 3.0 §4.2
-    /// co-simulation without event mode, where variables can also be read when
-    /// instantiated).
-    fn allowed(self, phase: Phase, version: Version) -> bool {
-        use Phase::*;
-        match self {
-            Call::SetupExperiment | Call::EnterInitialization => phase == Instantiated,
-            Call::ExitInitialization => phase == Initialization,
-            Call::Set => matches!(phase, Instantiated | Initialization | Step),
-            Call::Get => {
-                matches!(phase, Initialization | Step | Terminated | Error)
-                    || (phase == Instantiated && version == Version::Fmi3)
-            }
-            Call::DoStep => phase == Step,
-            Call::Terminate => matches!(phase, Step | Error),
-            Call::Reset | Call::SetDebugLogging | Call::State => true,
-        }
-    }
-}
 
 /// The logger: (status, category, message).
 pub type Log = Arc<dyn Fn(Status, &str, &str) + Send + Sync>;
@@ -86,48 +31,11 @@ pub type Log = Arc<dyn Fn(Status, &str, &str) + Send + Sync>;
 /// A queued log message: status, category, text.
 pub type Message = (Status, &'static str, String);
 
-/// One FMI 2 scalar: a scalar variable, or element `index` of an array variable.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Scalar {
-    pub name: String,
-    pub scene_vr: u32,
-    pub index: usize,
-}
-
-/// The FMI 2 scalars of a variable table, in value-reference order.
-pub fn fmi2_scalars(vars: &[Variable]) -> Vec<Scalar> {
-    vars.iter()
-        .flat_map(|v| {
-            (0..v.len).map(move |i| Scalar {
-                name: if v.len == 1 {
-                    v.name.clone()
-                } else {
-                    format!("{}[{i}]", v.name)
-                },
-                scene_vr: v.vr,
-                index: i,
-            })
-        })
-        .collect()
-}
-
-/// FMI 3 value reference of the independent variable `time`.
-pub fn time_vr(vars: &[Variable]) -> u32 {
-    vars.len() as u32
-}
-
-/// A value reference resolved: the scene variable, the first element and the count.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct Resolved {
-    vr: u32,
-    index: usize,
-    len: usize,
-}
-
 /// An FMI instance.
 pub struct Instance {
+    /// The instance name the importer gave (`tissuefmu` if it gave none or an invalid one).
     pub name: String,
-    model: &'static Model,
+    model: &'static Export,
     version: Version,
     scene: Box<dyn Scene>,
     phase: Phase,
@@ -142,7 +50,7 @@ pub struct Instance {
     log: Log,
     messages: Vec<Message>,
     log_calls: bool,
-    scalars: Vec<Scalar>,
+    addressing: Addressing,
     buffer: Vec<f64>,
     strings: Vec<CString>,
 }
@@ -167,7 +75,7 @@ impl Instance {
         let Some(token) = token else {
             return fail("the instantiation token / GUID is missing");
         };
-        let Some(model) = Model::by_token(token) else {
+        let Some(model) = Export::by_token(token) else {
             return fail(&format!(
                 "instantiation token / GUID `{token}` matches no model in this binary (is the modelDescription.xml from another build?)"
             ));
@@ -183,7 +91,7 @@ impl Instance {
         let scene = (model.create)();
         Some(Self {
             name: name.to_string(),
-            scalars: fmi2_scalars(scene.variables()),
+            addressing: Addressing::new(version, scene.variables()),
             model,
             version,
             scene,
@@ -208,15 +116,19 @@ impl Instance {
         })
     }
 
-    /// After a caught panic: only get, reset and free remain allowed.
+    /// After a caught panic: the error phase (reads, terminate, reset, free and the FMU-state
+    /// calls remain allowed).
     pub fn poison(&mut self) {
         self.phase = Phase::Error;
     }
 
+    /// Where the instance is in its life cycle.
     pub fn phase(&self) -> Phase {
         self.phase
     }
 
+    /// The instance time: the start time until a step succeeds, then the end of the last
+    /// successful step (FMI 2 `fmi2LastSuccessfulTime`, FMI 3 `lastSuccessfulTime`).
     pub fn time(&self) -> f64 {
         self.time
     }
@@ -270,12 +182,17 @@ impl Instance {
         }
     }
 
-    /// Queues a scene error, named by its kind when the model failed while running, and
-    /// with the reason when the initialization had failed.
+    /// Queues a scene error, named by its kind when the model failed while running or its
+    /// values describe no valid model, and with the reason when the initialization had
+    /// failed.
     fn fail(&mut self, e: &SceneError) -> Status {
-        let mut message = match e.kind() {
-            ErrorKind::Runtime => format!("{}: {e}", e.kind()),
-            ErrorKind::Usage | ErrorKind::Configuration => e.to_string(),
+        // A configuration error of the scene says so itself; one of the model (an unknown
+        // choice, a value out of its range) is named here.
+        let mut message = match (e.kind(), e) {
+            (ErrorKind::Runtime, _) | (ErrorKind::Configuration, SceneError::Model(_)) => {
+                format!("{}: {e}", e.kind())
+            }
+            _ => e.to_string(),
         };
         if let (SceneError::NotInitialized { .. }, Some(why)) = (e, &self.failure) {
             message += &format!(" (the initialization failed: {why})");
@@ -315,6 +232,8 @@ impl Instance {
         Status::Ok
     }
 
+    /// Enters Initialization Mode. The scene is not built here but on the first read of an
+    /// output or at the exit (see the module documentation).
     pub fn enter_initialization(&mut self) -> Status {
         self.phase = Phase::Initialization;
         Status::Ok
@@ -388,27 +307,8 @@ impl Instance {
 
     /// Advances to exactly `current + h`.
     pub fn do_step(&mut self, current: f64, h: f64) -> Status {
-        if !(h.is_finite() && h > 0.0) {
-            let message = format!("communication step size {h} must be finite and > 0");
-            return self.error(Status::Error, &message);
-        }
-        let tolerance = 1e-9 * current.abs().max(h).max(1.0);
-        if (current - self.time).abs() > tolerance {
-            let message = format!(
-                "currentCommunicationPoint {} s does not match the instance time {} s",
-                seconds(current),
-                seconds(self.time)
-            );
-            return self.error(Status::Error, &message);
-        }
-        if let Some(stop) = self.stop_time.filter(|&s| current + h > s + tolerance) {
-            let message = format!(
-                "a step from t = {} s by {} s would pass the stop time {} s the importer set",
-                seconds(current),
-                seconds(h),
-                seconds(stop)
-            );
-            return self.error(Status::Error, &message);
+        if let Some(why) = self.refused_step(current, h) {
+            return self.error(Status::Error, &why);
         }
         match self.scene.do_step(current, h) {
             Ok(()) => {
@@ -422,6 +322,37 @@ impl Instance {
         }
     }
 
+    /// Why a step from `current` by `h` is refused, if it is: a time or size that is not
+    /// finite (and positive), a time other than the instance's, a step past the stop time.
+    fn refused_step(&self, current: f64, h: f64) -> Option<String> {
+        let tolerance = 1e-9 * current.abs().max(h).max(1.0);
+        if !current.is_finite() {
+            Some(format!(
+                "currentCommunicationPoint = {current} s is not finite"
+            ))
+        } else if !(h.is_finite() && h > 0.0) {
+            Some(format!(
+                "communicationStepSize = {h} s must be finite and > 0"
+            ))
+        } else if (current - self.time).abs() > tolerance {
+            Some(format!(
+                "currentCommunicationPoint {} s does not match the instance time {} s",
+                seconds(current),
+                seconds(self.time)
+            ))
+        } else {
+            let stop = self.stop_time.filter(|&s| current + h > s + tolerance)?;
+            Some(format!(
+                "a step from t = {} s by {} s would pass the stop time {} s the importer set",
+                seconds(current),
+                seconds(h),
+                seconds(stop)
+            ))
+        }
+    }
+
+    /// Ends the simulation: the scene is kept, its values can still be read, and the
+    /// instance can be reset or freed.
     pub fn terminate(&mut self) -> Status {
         self.phase = Phase::Terminated;
         Status::Ok
@@ -502,69 +433,18 @@ impl Instance {
         self.scene.variables().get(vr as usize)
     }
 
-    /// Resolves references: FMI 2 one scalar each, FMI 3 one variable (or `time`) each.
-    fn resolve(&self, vrs: &[u32]) -> Result<Vec<Resolved>, String> {
-        let time = time_vr(self.scene.variables());
-        vrs.iter()
-            .map(|&vr| {
-                let resolved = match self.version {
-                    Version::Fmi2 => self.scalars.get(vr as usize).map(|s| Resolved {
-                        vr: s.scene_vr,
-                        index: s.index,
-                        len: 1,
-                    }),
-                    Version::Fmi3 if vr == time => Some(Resolved {
-                        vr,
-                        index: 0,
-                        len: 1,
-                    }),
-                    Version::Fmi3 => self.variable(vr).map(|v| Resolved {
-                        vr,
-                        index: 0,
-                        len: v.len,
-                    }),
-                };
-                resolved.ok_or_else(|| format!("unknown value reference {vr}"))
-            })
-            .collect()
-    }
-
     /// Resolved references whose value counts add up to `n_values`; queues a message and
     /// returns Error otherwise.
     fn references(&mut self, vrs: &[u32], n_values: usize) -> Result<Vec<Resolved>, Status> {
-        let refs = match self.resolve(vrs) {
-            Ok(r) => r,
-            Err(m) => return Err(self.error(Status::Error, &m)),
-        };
-        let needed: usize = refs.iter().map(|r| r.len).sum();
-        if needed != n_values {
-            let message = format!("{n_values} values given for {needed} expected");
-            return Err(self.error(Status::Error, &message));
-        }
-        Ok(refs)
+        let refs = self
+            .addressing
+            .resolve_values(self.scene.variables(), vrs, n_values);
+        refs.map_err(|m| self.error(Status::Error, &m))
     }
 
     /// The name of a resolved reference as the model description spells it.
     fn name_of(&self, r: Resolved) -> String {
-        match self.variable(r.vr) {
-            Some(v) if v.len > 1 && self.version == Version::Fmi2 => {
-                format!("{}[{}]", v.name, r.index)
-            }
-            Some(v) => v.name.clone(),
-            None => "time".into(),
-        }
-    }
-
-    /// Why a resolved reference cannot be set at all, if it cannot.
-    fn unsettable(&self, r: Resolved) -> Option<String> {
-        let name = self.name_of(r);
-        match self.variable(r.vr) {
-            None => Some("the independent variable `time` cannot be set".into()),
-            Some(v) if v.causality == Causality::Output => {
-                Some(format!("`{name}` is an output and cannot be set"))
-            }
-            _ => None,
-        }
+        self.addressing.name_of(self.scene.variables(), r)
     }
 
     /// Sets real values; all or none.
@@ -573,7 +453,10 @@ impl Instance {
             Ok(r) => r,
             Err(s) => return s,
         };
-        if let Some(m) = refs.iter().find_map(|&r| self.unsettable(r)) {
+        if let Some(m) = refs
+            .iter()
+            .find_map(|&r| self.addressing.unsettable(self.scene.variables(), r))
+        {
             return self.error(Status::Error, &m);
         }
         let mut at = 0;
@@ -593,7 +476,8 @@ impl Instance {
             |scene, vr, x: &[f64]| scene.set_real(vr, x),
         );
         match result {
-            Ok(()) => Status::Ok,
+            // A value that cannot act under the present settings is warned of.
+            Ok(()) => self.warn(),
             Err(e) => self.fail(&e),
         }
     }
@@ -604,7 +488,10 @@ impl Instance {
             Ok(r) => r,
             Err(s) => return s,
         };
-        if let Some(m) = refs.iter().find_map(|&r| self.unsettable(r)) {
+        if let Some(m) = refs
+            .iter()
+            .find_map(|&r| self.addressing.unsettable(self.scene.variables(), r))
+        {
             return self.error(Status::Error, &m);
         }
         let items: Vec<(u32, &str)> = refs
@@ -618,7 +505,8 @@ impl Instance {
             |scene, vr, s: &str| scene.set_string(vr, s),
         );
         match result {
-            Ok(()) => Status::Ok,
+            // A value that cannot act under the present settings is warned of.
+            Ok(()) => self.warn(),
             Err(e) => self.fail(&e),
         }
     }
@@ -716,13 +604,14 @@ impl Instance {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::MODELS;
+    use crate::addressing::fmi2_scalars;
+    use crate::exports::EXPORTS;
 
     /// A cut-block instance of `version` and the value references of its variables by name.
     fn instance(version: Version, log_calls: bool) -> (Instance, impl Fn(&str) -> u32) {
-        let token = MODELS[1].token();
+        let token = EXPORTS[1].token();
         let i = Instance::create(version, Some(&token), "t", None, ffi_silent(), log_calls);
-        let scene = (MODELS[1].create)();
+        let scene = (EXPORTS[1].create)();
         let names: Vec<String> = match version {
             Version::Fmi2 => fmi2_scalars(scene.variables())
                 .into_iter()
@@ -832,7 +721,7 @@ mod tests {
         assert_eq!(i.do_step(0.0, 1.0), Status::Error);
         let logged = texts(&mut i);
         assert!(
-            logged[0].starts_with("invalid configuration: support `glued`"),
+            logged[0].starts_with("invalid configuration: unknown support `glued`"),
             "{logged:?}"
         );
         let last = logged.last().unwrap();

@@ -4,8 +4,10 @@
 //! bundler that writes the `.fmu` archives ([`bundle`]).
 //!
 //! ```text
-//! model      the exported scenes: identifier, constructor, token
-//! instance   the FMI state machine, value-reference addressing, error reporting
+//! exports    the exported scenes: identifier, constructor, token
+//! addressing value references of FMI 2 (scalars) and FMI 3 (arrays, `time`)
+//! machine    the FMI state machine: phases, calls, and which call each phase allows
+//! instance   the instance over a scene: value-reference addressing, error reporting
 //! ffi        C strings and arrays, the panic guard around every entry point
 //! fmi2, fmi3 the ABI: convert C arguments, call the instance
 //! xml        modelDescription.xml from the scenes' variable tables
@@ -13,12 +15,14 @@
 //! bundle     the .fmu archives (bin `bundle`)
 //! ```
 
+pub mod addressing;
 pub mod bundle;
+pub mod exports;
 mod ffi;
 pub mod fmi2;
 pub mod fmi3;
 pub mod instance;
-pub mod model;
+pub mod machine;
 pub mod state;
 pub mod uri;
 pub mod xml;

@@ -24,8 +24,8 @@ use std::cell::OnceCell;
 use models::scene::SceneState;
 use serde::{Deserialize, Serialize};
 
-use crate::instance::Phase;
-use crate::model::Model;
+use crate::exports::Export;
+use crate::machine::Phase;
 
 /// The first bytes of every serialized state.
 const MAGIC: &[u8; 16] = b"tissuefmu state\0";
@@ -35,24 +35,34 @@ pub const FORMAT: u32 = 1;
 /// The instance's part of a state.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct InstanceState {
+    /// Where the instance was in its life cycle.
     pub phase: Phase,
+    /// Whether the scene was built with every value set so far (see module `instance`).
     pub built: bool,
+    /// Why the initialization failed, if it did.
     pub failure: Option<String>,
+    /// The start time of the experiment (s).
     pub start_time: f64,
+    /// The stop time the importer defined, if any (s).
     pub stop_time: Option<f64>,
+    /// The instance time (s).
     pub time: f64,
 }
 
 /// An FMU state: the instance's part, the scene's, and (made on first request) the bytes.
 #[derive(Debug)]
 pub struct FmuState {
+    /// The identifier of the model the state belongs to.
     pub model: &'static str,
+    /// The instance's part: phase, build and times.
     pub instance: InstanceState,
+    /// The scene's part.
     pub scene: SceneState,
     bytes: OnceCell<Vec<u8>>,
 }
 
 impl FmuState {
+    /// A state of `model` from its two parts; the bytes are made when first asked for.
     pub fn new(model: &'static str, instance: InstanceState, scene: SceneState) -> Self {
         Self {
             model,
@@ -63,7 +73,7 @@ impl FmuState {
     }
 
     /// The serialized form (made once, then kept for the size query and the copy).
-    pub fn bytes(&self, model: &Model) -> Result<&[u8], String> {
+    pub fn bytes(&self, model: &Export) -> Result<&[u8], String> {
         if let Some(b) = self.bytes.get() {
             return Ok(b);
         }
@@ -85,7 +95,7 @@ impl FmuState {
 
     /// Reads serialized bytes for `model`, refusing what is not a state of this model and
     /// build, or is damaged; the message says which.
-    pub fn from_bytes(model: &Model, bytes: &[u8]) -> Result<Self, String> {
+    pub fn from_bytes(model: &Export, bytes: &[u8]) -> Result<Self, String> {
         let mut r = Reader { bytes, at: 0 };
         if r.take(MAGIC.len()) != Some(&MAGIC[..]) {
             return Err(format!(

@@ -5,8 +5,8 @@ use std::fmt::Write;
 
 use models::scene::{outputs, Causality, Start, Variable, VariableKind};
 
-use crate::instance::{fmi2_scalars, time_vr};
-use crate::model::Model;
+use crate::addressing::{fmi2_scalars, time_vr};
+use crate::exports::Export;
 
 /// Base-unit exponents and factor of every unit the scenes use (SI base: kg, m, s).
 fn base_unit(unit: &str) -> Option<&'static str> {
@@ -108,7 +108,7 @@ fn initial(v: &Variable) -> &'static str {
 
 const LOG_CATEGORIES: &str = "  <LogCategories>\n    <Category name=\"logStatusError\" description=\"errors, with the variable or cause\"/>\n    <Category name=\"logStatusWarning\" description=\"where an input takes the model beyond what it is valid for (strain, mesh)\"/>\n    <Category name=\"logCalls\" description=\"every FMI call and model build\"/>\n  </LogCategories>\n";
 
-fn header(model: &Model, version: &str, token_attribute: &str) -> String {
+fn header(model: &Export, version: &str, token_attribute: &str) -> String {
     format!(
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<fmiModelDescription fmiVersion=\"{version}\" modelName=\"{id}\" {token_attribute}=\"{token}\" description=\"{desc}\" generationTool=\"tissuefmu {tool}\" variableNamingConvention=\"structured\">\n",
         id = model.identifier,
@@ -118,7 +118,7 @@ fn header(model: &Model, version: &str, token_attribute: &str) -> String {
     )
 }
 
-fn default_experiment(model: &Model) -> String {
+fn default_experiment(model: &Export) -> String {
     format!(
         "  <DefaultExperiment startTime=\"0.0\" stopTime=\"{}\" stepSize=\"{}\"/>\n",
         num(model.stop_time),
@@ -128,7 +128,7 @@ fn default_experiment(model: &Model) -> String {
 
 /// The FMI 2.0 co-simulation model description. Arrays appear as indexed scalars
 /// `name[i]`, numbered consecutively.
-pub fn fmi2(model: &Model) -> String {
+pub fn fmi2(model: &Export) -> String {
     let scene = (model.create)();
     let vars = scene.variables();
     let mut s = header(model, "2.0", "guid");
@@ -188,7 +188,7 @@ pub fn fmi2(model: &Model) -> String {
 
 /// The FMI 3.0 co-simulation model description. Value references are the scene's; arrays
 /// are arrays (`<Dimension start="n"/>`); `time` is the independent variable.
-pub fn fmi3(model: &Model) -> String {
+pub fn fmi3(model: &Export) -> String {
     let scene = (model.create)();
     let vars = scene.variables();
     let mut s = header(model, "3.0", "instantiationToken");

@@ -3,24 +3,27 @@
 //! refused as the description says, zero references accepted for every type, outputs read
 //! in Initialization Mode, and a logger that calls back into the FMU.
 
+// Unsafe code: these tests call the FMI 3.0 C ABI.
+#![allow(unsafe_code)]
+
 use std::ffi::{c_char, c_void, CStr, CString};
 use std::ptr::{null, null_mut};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use fmu::exports::EXPORTS;
 use fmu::fmi3::*;
-use fmu::model::MODELS;
 
 const OK: fmi3Status = 0;
 const ERROR: fmi3Status = 3;
 
 fn vr(name: &str) -> fmi3ValueReference {
-    let scene = (MODELS[1].create)();
+    let scene = (EXPORTS[1].create)();
     scene.lookup(name).unwrap()
 }
 
 fn instantiate(event_mode: bool, env: *mut c_void, log: fmi3LogMessageCallback) -> fmi3Instance {
     let name = CString::new("t").unwrap();
-    let token = CString::new(MODELS[1].token()).unwrap();
+    let token = CString::new(EXPORTS[1].token()).unwrap();
     unsafe {
         fmi3InstantiateCoSimulation(
             name.as_ptr(),
@@ -173,7 +176,7 @@ fn a_logger_may_call_back_into_the_instance() {
 /// the description declares absent, are refused with an error status.
 #[test]
 fn capability_flags_are_honoured() {
-    let xml = fmu::xml::fmi3(&MODELS[1]);
+    let xml = fmu::xml::fmi3(&EXPORTS[1]);
     for flag in [
         "canHandleVariableCommunicationStepSize",
         "canGetAndSetFMUState",

@@ -1,14 +1,14 @@
 //! The generated model descriptions agree with the variable tables the binary uses: every
 //! variable appears with the value reference, causality and start value the instance uses.
 
-use fmu::instance::{fmi2_scalars, time_vr};
-use fmu::model::MODELS;
+use fmu::addressing::{fmi2_scalars, time_vr};
+use fmu::exports::EXPORTS;
 use fmu::xml;
 use models::scene::Start;
 
 #[test]
 fn fmi2_description_lists_every_scalar_with_its_reference_and_start() {
-    for model in &MODELS {
+    for model in &EXPORTS {
         let text = xml::fmi2(model);
         let scene = (model.create)();
         let scalars = fmi2_scalars(scene.variables());
@@ -37,7 +37,7 @@ fn fmi2_description_lists_every_scalar_with_its_reference_and_start() {
 
 #[test]
 fn fmi3_description_uses_scene_references_and_arrays() {
-    for model in &MODELS {
+    for model in &EXPORTS {
         let text = xml::fmi3(model);
         let scene = (model.create)();
         for v in scene.variables() {
@@ -65,11 +65,11 @@ fn fmi3_description_uses_scene_references_and_arrays() {
 /// generated descriptions carry the token the binary accepts.
 #[test]
 fn tokens_cover_the_whole_variable_table_and_the_descriptions_carry_them() {
-    assert_ne!(MODELS[0].token(), MODELS[1].token());
-    let scene = (MODELS[1].create)();
+    assert_ne!(EXPORTS[0].token(), EXPORTS[1].token());
+    let scene = (EXPORTS[1].create)();
     let table = scene.variables().to_vec();
-    let base = fmu::model::token("cutblock", &table);
-    assert_eq!(base, MODELS[1].token());
+    let base = fmu::exports::token("cutblock", &table);
+    assert_eq!(base, EXPORTS[1].token());
     let nu = table.iter().position(|v| v.name == "nu").unwrap();
     let changes: [fn(&mut models::scene::Variable); 5] = [
         |v| v.start = models::scene::Start::Real(0.3),
@@ -81,9 +81,13 @@ fn tokens_cover_the_whole_variable_table_and_the_descriptions_carry_them() {
     for (k, change) in changes.iter().enumerate() {
         let mut changed = table.clone();
         change(&mut changed[nu]);
-        assert_ne!(fmu::model::token("cutblock", &changed), base, "change {k}");
+        assert_ne!(
+            fmu::exports::token("cutblock", &changed),
+            base,
+            "change {k}"
+        );
     }
-    for model in &MODELS {
+    for model in &EXPORTS {
         let token = model.token();
         assert!(xml::fmi2(model).contains(&format!("guid=\"{token}\"")));
         assert!(xml::fmi3(model).contains(&format!("instantiationToken=\"{token}\"")));

@@ -11,7 +11,7 @@ use harness::report::{
     self, blade_path, cut_speed_error, fields, identification, model_order, series, speed_error,
     sweep, variables, verification, Depth,
 };
-use harness::studies::identify::Model;
+use harness::studies::identify::ModelForm;
 use harness::studies::{measurements, peer};
 
 #[derive(Parser)]
@@ -38,12 +38,17 @@ enum Command {
     /// speed versus error, the shipped sweeps (pelvis, cut block), fields
     Report {
         /// The converged studies: references, full speed–error fronts, every
-        /// identification, the pelvis sweep in four model forms (the abdomen's speed–error
-        /// study alone took 29 minutes on 2 cores in a run of 2026-11-26)
+        /// identification, the pelvis sweep in four model forms (tens of minutes on 2
+        /// cores: docs/results.md gives the time of the last run)
         #[arg(long)]
         full: bool,
         #[arg(long, default_value = "report/default")]
         out: PathBuf,
+        /// Also write this page whole from the run (the report under a heading with the
+        /// command, date and commit; its plots copied to `img/` beside it): how
+        /// docs/results.md is made
+        #[arg(long, requires = "full")]
+        results: Option<PathBuf>,
     },
     /// Runs (or resumes) the sweep of an experiment file
     Sweep {
@@ -189,9 +194,24 @@ fn run(cli: Cli) -> Result<Option<PathBuf>> {
             .build_global()?;
     }
     let path = match command {
-        Command::Report { full, out } => {
+        Command::Report { full, out, results } => {
             let depth = if full { Depth::Full } else { Depth::Quick };
-            report::default::run(&out, depth)?
+            let start = std::time::Instant::now();
+            let md = report::default::run(&out, depth)?;
+            match results {
+                Some(page) => {
+                    let provenance = report::results::Provenance {
+                        command: format!(
+                            "harness report --full --out {} --results {}",
+                            out.display(),
+                            page.display()
+                        ),
+                        seconds: start.elapsed().as_secs_f64(),
+                    };
+                    report::results::publish(&md, &page, &provenance)?
+                }
+                None => md,
+            }
         }
         Command::Sweep {
             experiment,
@@ -209,7 +229,7 @@ fn run(cli: Cli) -> Result<Option<PathBuf>> {
             identification::Job {
                 data: measurements::source(data.as_deref()),
                 set,
-                model: Model::new(&material, &element),
+                model: ModelForm::parse(&material, &element)?,
                 nu,
             },
             &out,

@@ -57,7 +57,7 @@ time = [0.0, 0.1]
 value = [0.0, 0.3]
 [[sweep]]
 design = "list"
-values = { configuration = ["wide", "no_such_pelvis"] }
+values = { configuration = ["wide", "normal"], memory_limit = [8000.0, 1.0] }
 [[sweep]]
 design = "list"
 values = { "anatomy.outlet" = [105.0] }
@@ -119,10 +119,11 @@ fn abdomen_through_both_fmus_equals_in_process_and_reports_the_fmu_error() {
             "{file}: generated configuration files reach the FMU"
         );
         same_case_files(&tmp, 3);
+        // A model larger than the case's memory_limit: known only once it is meshed.
         let Outcome::Failed(message) = &there[1] else {
-            panic!("no_such_pelvis fails")
+            panic!("a case over its memory_limit fails")
         };
-        assert!(message.contains("no_such_pelvis"), "{message}");
+        assert!(message.contains("above memory_limit = 1 MB"), "{message}");
     }
 }
 

@@ -4,12 +4,13 @@
 //! quick report's identification, checked alike by `commands.rs`
 //! (`the_quick_report_writes_every_section`).
 
-use harness::studies::identify::{identify, Fit, Model, FORCE_LEVEL, PROFILE_LEVEL};
+use harness::studies::identify::{identify, Fit, ModelForm, FORCE_LEVEL, PROFILE_LEVEL};
 use harness::studies::measurements::{Measurements, Source};
 
 fn fit(set: &str, material: &str, element: &str) -> (Measurements, Fit) {
     let m = Measurements::load(&Source::Shipped, set).unwrap();
-    let fit = identify(&m, &Model::new(material, element), None, &|_, _| {}).unwrap();
+    let model = ModelForm::parse(material, element).unwrap();
+    let fit = identify(&m, &model, None, &|_, _| {}).unwrap();
     (m, fit)
 }
 

@@ -21,10 +21,10 @@ time = [0.0, 0.2]
 value = [0.0, 0.5]
 [[sweep]]
 design = "list"
-values = { configuration = ["normal", "no_such_pelvis", "wide"] }
+values = { configuration = ["normal", "wide", "wide"], memory_limit = [8000, 1, 8000] }
 [[sweep]]
 design = "grid"
-ranges = { wall_E = { min = 0.01, max = 0.1, log = true, levels = 3 } }
+ranges = { floor_E = { min = 0.02, max = 0.2, log = true, levels = 3 } }
 "#;
 
 fn harness(args: &[&str]) -> Output {
@@ -64,14 +64,32 @@ fn failures_are_recorded_and_resuming_reruns_only_missing_cases() {
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines.len(), 7, "{text}");
     assert!(
-        lines[2].contains("failed") && lines[2].contains("no_such_pelvis"),
+        lines[2].contains("failed") && lines[2].contains("above memory_limit = 1 MB"),
         "{text}"
     );
     assert_eq!(text.matches(",finished,").count(), 5, "{text}");
+    // The grid over the floor's modulus (×10 over three cases) acts: under the same press
+    // (a load, not a displacement) the stiffer floor stretches less, so its stress grows,
+    // but by less than the modulus; the apex descends less.
+    let column = |name: &str| {
+        let k = lines[0].split(',').position(|c| c == name).unwrap();
+        lines[4..7]
+            .iter()
+            .map(|l| l.split(',').nth(k).unwrap().parse::<f64>().unwrap())
+            .collect::<Vec<_>>()
+    };
+    let stress = column("floor_stress_max_peak");
+    assert!(stress[0] < stress[1] && stress[1] < stress[2], "{stress:?}");
+    assert!(stress[2] / stress[0] < 10.0, "{stress:?}");
+    let apex = column("apex_uy_final");
+    assert!(
+        apex[0] < apex[1] && apex[1] < apex[2] && apex[2] < 0.0,
+        "{apex:?}"
+    );
     for f in [
         "report.md",
-        "metric_vs_wall_E.png",
-        "metric_vs_wall_E.svg",
+        "metric_vs_floor_E.png",
+        "metric_vs_floor_E.svg",
         "histories.png",
         "plan.json",
     ] {
@@ -211,8 +229,22 @@ fn invalid_experiments_fail_before_any_work_naming_the_key() {
             "threads",
         ),
         (
-            EXPERIMENT.replace("max = 0.1, log", "max = -0.1, log"),
-            "sweep[1].ranges.wall_E",
+            EXPERIMENT.replace("max = 0.2, log", "max = -0.2, log"),
+            "sweep[1].ranges.floor_E",
+        ),
+        // Each case's values on the scene before the first case runs: an unknown choice, a
+        // configuration that does not resolve, values that do not go together.
+        (
+            EXPERIMENT.replace("memory_limit =", "kinematics = [\"finite\", \"finit\", \"linear\"], memory_limit ="),
+            "`sweep` case 1 (configuration = wide, kinematics = finit, memory_limit = 1): `kinematics` = finit: unknown kinematics `finit`",
+        ),
+        (
+            EXPERIMENT.replace("\"wide\", \"wide\"]", "\"wide\", \"no_such_pelvis\"]"),
+            "`sweep` case 2 (configuration = no_such_pelvis, memory_limit = 8000): invalid configuration: configuration `no_such_pelvis` is no shipped configuration",
+        ),
+        (
+            EXPERIMENT.replace("target_triangles = 400", "target_triangles = 400\nmodel_order = \"modal\""),
+            "model_order = \"modal\" reduces the linear model: use kinematics = \"linear\"",
         ),
         (
             EXPERIMENT.replace("value = [0.0, 0.5]", "value = [0.0, 5000.0]"),

@@ -6,10 +6,9 @@
 use std::sync::LazyLock;
 
 use divan::Bencher;
-use models::assembly::{plane, solid, Dirichlet};
-use models::solve::{
-    Cholesky, Damping, Factorization, IntegratorKind, Ordering, Statics, Structure,
-};
+use models::assembly::{plane, tetrahedra, Dirichlet};
+use models::linalg::{Cholesky, Factorization, Ordering};
+use models::solve::{Damping, IntegratorKind, Statics, Structure};
 use models::verify::problems::{self, Assembled, BlockProblem, PlaneProblem};
 
 fn main() {
@@ -112,7 +111,7 @@ mod block3d {
     fn assemble_stiffness(bencher: Bencher) {
         let (p, a) = &*BLOCK;
         let mut k = a.asm.zeros();
-        bencher.bench_local(|| solid::stiffness(&p.mesh, &a.asm, &p.material, &mut k));
+        bencher.bench_local(|| tetrahedra::stiffness(&p.mesh, &a.asm, &p.material, &mut k));
     }
 
     #[divan::bench(args = [Factorization::Simplicial, Factorization::Supernodal(Ordering::NestedDissection)])]
@@ -159,7 +158,7 @@ mod block3d {
         let f = vec![0.0; p.mesh.n_dofs()];
         let mut u = p.prescribed.clone();
         bencher.bench_local(|| {
-            solid::stiffness(&p.mesh, &a.asm, &p.material, &mut k);
+            tetrahedra::stiffness(&p.mesh, &a.asm, &p.material, &mut k);
             statics.factorize(&k).unwrap();
             statics.solve(a.asm.matrix(&k), &f, &mut u);
         });
@@ -231,8 +230,11 @@ mod plane2d_quadratic {
             return s;
         }
         let materials = Arc::from([Material::new(Law::NeoHookean, props.continua[0].elastic)]);
-        s.with_internal_forces(quadratic_plane::internal_forces(Arc::new(
-            quadratic_plane::BodyForces::triangles(mesh, asm, materials, Formulation::Displacement),
+        s.with_internal_forces(Arc::new(quadratic_plane::PlaneBody::triangles(
+            mesh,
+            asm,
+            materials,
+            Formulation::Displacement,
         )))
     }
 

@@ -151,7 +151,7 @@ mod parts {
     #[divan::bench]
     fn pattern(bencher: Bencher) {
         let b = base();
-        bencher.bench_local(|| models::assembly::solid::assembler(&b));
+        bencher.bench_local(|| models::assembly::tetrahedra::assembler(&b));
     }
 }
 
@@ -195,7 +195,7 @@ fn pull_to_10mm(bencher: Bencher, (material, element): (&str, &str)) {
 /// element assembly.
 mod tangent {
     use super::*;
-    use models::assembly::solid::Solid;
+    use models::assembly::tetrahedra::Solid;
     use models::element::{Elastic, Law, Material};
     use models::mesh::QuadraticMesh;
 

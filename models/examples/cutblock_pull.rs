@@ -42,12 +42,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     s.set("scalpel_x", 100.0)?;
     s.do_step(0.0, 1.0)?;
     let setup = start.elapsed();
-    let before = s.work();
+    let (before, before_timing) = (s.work(), s.timing());
     s.set("pull", 10.0)?;
     let start = Instant::now();
     s.do_step(1.0, 1.0)?;
     let pull = start.elapsed();
-    let w = s.work();
+    let (w, timing) = (s.work(), s.timing());
     let dofs = s.field().map_or(0, |(solid, _)| solid.n_dofs());
     println!("{material} {element}, cells ×{refine}, {dofs} dofs: set-up and cut {setup:.2?}, pull 0 → 10 mm {pull:.2?}");
     println!("reaction at 10 mm: {:.4} N", s.get("reaction_force")?);
@@ -60,9 +60,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     println!(
         "assembly {:.2?}, factorization {:.2?}, solve {:.2?}",
-        w.assembly - before.assembly,
-        w.factorization - before.factorization,
-        w.solve - before.solve
+        timing.assembly - before_timing.assembly,
+        timing.factorization - before_timing.factorization,
+        timing.solve - before_timing.solve
     );
     Ok(())
 }

@@ -6,16 +6,20 @@
 use nalgebra::{Matrix3, Vector6};
 
 use crate::assembly::plane::PlaneProperties;
-use crate::assembly::solid::Solid;
-use crate::element::tri6::{self, Formulation};
+use crate::assembly::tetrahedra::Solid;
+use crate::element::mixed::Formulation;
+use crate::element::recovery;
 use crate::element::{line2, line3, tet4, tri3, Elastic, Law};
 use crate::mesh::{plane_dofs, Mesh2d, Mesh3d, QuadraticPlaneMesh};
 
 /// The state at an element's centroid: Cauchy stress, strain and the element's volume.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Centroid {
+    /// Cauchy stress σ (MPa).
     pub stress: Matrix3<f64>,
+    /// Strain: Green–Lagrange at finite strain, sym(F − I) for the linear law.
     pub strain: Matrix3<f64>,
+    /// The element's reference volume (mm³).
     pub volume: f64,
 }
 
@@ -73,9 +77,13 @@ pub fn largest_eigenvalue(matrices: impl IntoIterator<Item = Matrix3<f64>>) -> f
 /// Plane-strain stress of a triangle (MPa). σ_zz = λ(ε_xx + ε_yy) keeps ε_zz = 0.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct PlaneStress {
+    /// Normal stress σ_xx.
     pub xx: f64,
+    /// Normal stress σ_yy.
     pub yy: f64,
+    /// Shear stress τ_xy.
     pub xy: f64,
+    /// Out-of-plane normal stress σ_zz.
     pub zz: f64,
 }
 
@@ -142,7 +150,7 @@ impl<const R: usize> Operators<R> {
 
 /// Per-triangle stress operators S with (σxx, σyy, σxy, σzz) = S u_e: for 3-node triangles
 /// the plane-strain D·B and λ times the first two rows of B for σzz = λ(ε_xx + ε_yy); for
-/// 6-node triangles [`tri6::stress_operator`] at the centroid.
+/// 6-node triangles [`recovery::stress_operator`] at the centroid.
 #[derive(Debug, Clone)]
 pub struct TriangleStresses(Operators<4>);
 
@@ -177,7 +185,7 @@ impl TriangleStresses {
         let mut ops = Operators::new(12, mesh.triangles().len());
         for (i, t) in mesh.triangles().iter().enumerate() {
             let elastic = &props.continua[usize::from(mesh.triangle_regions()[i])].elastic;
-            let s = tri6::stress_operator(formulation, &mesh.triangle(i), centroid, elastic);
+            let s = recovery::stress_operator(formulation, &mesh.triangle(i), centroid, elastic);
             ops.push(&plane_dofs::<6, 12>(t), |r, c| s[(r, c)]);
         }
         Self(ops)

@@ -98,7 +98,7 @@ DISCRETIZATIONS = {
 @pytest.mark.parametrize("version", VERSIONS)
 def test_abdomen_with_shipped_configuration_reproduces_the_in_process_scene(
         version, order, discretization):
-    params = {"configuration": "narrow", "target_triangles": 800.0, "wall_E": 0.05,
+    params = {"configuration": "narrow", "target_triangles": 800.0, "floor_E": 0.06,
               "model_order": order, "modes": 30.0, **DISCRETIZATIONS[discretization]}
     outputs = ["floor_stress_max", "apex_uy", "cavity_vm_mean"]
     result = simulate_fmu(

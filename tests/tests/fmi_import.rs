@@ -91,7 +91,7 @@ fn in_process(s: &Scenario) -> Bits {
 
 /// The FMI 2 value reference of a scalar by name.
 fn fmi2_vr(s: &Scenario, name: &str) -> u32 {
-    fmu::instance::fmi2_scalars(scene::create(s.scene).unwrap().variables())
+    fmu::addressing::fmi2_scalars(scene::create(s.scene).unwrap().variables())
         .iter()
         .position(|v| v.name == name)
         .unwrap() as u32
@@ -173,7 +173,7 @@ fn fmi2_and_fmi3_through_the_fmi_crate_match_in_process() {
 /// Both scenes, each through its FMI 2 and FMI 3 FMU (every run a copy of the library of
 /// its own) and in process, all six at once in parallel threads, 20 times: every run equals
 /// the serial in-process run to the last bit. METIS orders with a generator of each copy's
-/// own, serialized within the copy (`models/src/solve/ordering.rs`).
+/// own, serialized within the copy (`models/src/linalg/ordering.rs`).
 #[test]
 fn every_copy_in_parallel_threads_gives_the_serial_results() {
     type Run = fn(&Scenario) -> Bits;

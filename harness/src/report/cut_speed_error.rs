@@ -9,8 +9,8 @@ use models::scene::cutblock::CutBlock;
 use super::plot::{self, Axis, Chart, Curve, Mark};
 use super::{Depth, Report};
 use crate::studies::cut_speed_error::{
-    clamped_edge_order, cubes, errors, measure, write_csv, write_reference, Answer, Case,
-    Reference, Study, CELLS, MIN_ORDER, REACTION_ORDER, REFERENCE_CELLS,
+    clamped_edge_order, cubes, errors, measure, write_csv, write_reference, Answer, BlockReference,
+    BlockRun, Study, CELLS, MIN_ORDER, REACTION_ORDER, REFERENCE_CELLS,
 };
 use crate::studies::speed_error::pareto;
 
@@ -71,7 +71,7 @@ pub fn section(report: &mut Report, depth: Depth) -> Result<()> {
 }
 
 /// The reference: its meshes, and for three the extrapolation, orders and error estimates.
-fn reference_table(report: &mut Report, reference: &Reference) -> Result<()> {
+fn reference_table(report: &mut Report, reference: &BlockReference) -> Result<()> {
     let Some(x) = reference.extrapolation else {
         let (model, a) = &reference.meshes[0];
         report.text(&format!(
@@ -159,14 +159,14 @@ fn reference_table(report: &mut Report, reference: &Reference) -> Result<()> {
     Ok(())
 }
 
-fn table(report: &mut Report, cases: &[Case], reference: &Answer) {
+fn table(report: &mut Report, cases: &[BlockRun], reference: &Answer) {
     let rows: Vec<Vec<String>> = cases
         .iter()
         .map(|c| {
             let m = &c.model;
             let mut row = vec![
-                m.material.into(),
-                m.element.into(),
+                m.law.name().into(),
+                m.element.name().into(),
                 format!("×{}", m.refine),
                 format!("{}", m.grading),
             ];
@@ -209,7 +209,7 @@ fn table(report: &mut Report, cases: &[Case], reference: &Answer) {
 
 /// Combined error against run time, one colour per law and element (×1 and ×2 joined),
 /// with the Pareto front.
-fn pareto_plot(report: &mut Report, cases: &[Case], reference: &Answer) -> Result<()> {
+fn pareto_plot(report: &mut Report, cases: &[BlockRun], reference: &Answer) -> Result<()> {
     let labelled: Vec<(String, (f64, f64))> = cases
         .iter()
         .filter_map(|c| {
@@ -217,7 +217,7 @@ fn pareto_plot(report: &mut Report, cases: &[Case], reference: &Answer) -> Resul
             let error = errors(a, reference).combined();
             // The reference itself has no place on a log scale.
             let m = &c.model;
-            let label = format!("{} {} β = {}", m.material, m.element, m.grading);
+            let label = format!("{} {} β = {}", m.law.name(), m.element.name(), m.grading);
             (error > 0.0).then_some((label, (a.seconds, error)))
         })
         .collect();

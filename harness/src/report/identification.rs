@@ -15,16 +15,22 @@ use rayon::prelude::*;
 
 use super::plot::{self, Axis, Chart, Curve, Mark};
 use super::{Depth, Report};
-use crate::studies::identify::{identify, Fit, Model, FORCE_LEVEL, NU_RANGE, PROFILE_LEVEL};
+use crate::studies::identify::{identify, Fit, ModelForm, FORCE_LEVEL, NU_RANGE, PROFILE_LEVEL};
 use crate::studies::measurements::{Measurements, Source};
 use crate::studies::profiles::align;
+use models::assembly::tetrahedra::Tetrahedron;
+use models::element::Law;
 
 /// One fit to make: a set in a folder (or a shipped one), a model, and ν if it is given.
 #[derive(Debug, Clone)]
 pub struct Job {
+    /// Where the set's files are.
     pub data: Source,
+    /// The set's name, `<S>` in its file names (e.g. `A`).
     pub set: String,
-    pub model: Model,
+    /// The model fitted: material law and tetrahedron.
+    pub model: ModelForm,
+    /// Poisson's ratio held fixed, so that E alone is fitted; `None` fits ν as well.
     pub nu: Option<f64>,
 }
 
@@ -52,17 +58,25 @@ pub fn command(job: Job, out: &Path) -> Result<PathBuf> {
 /// law and element the data were made with) and the linear tet4 one. Quick: set C with
 /// neo-Hookean tet10 (the faster set; the model at the noise level).
 pub fn shipped(report: &mut Report, depth: Depth) -> Result<()> {
-    let (sets, models): (&[&str], &[(&str, &str)]) = match depth {
-        Depth::Quick => (&["C"], &[("neo-hookean", "tet10")]),
-        Depth::Full => (&["A", "C"], &[("neo-hookean", "tet10"), ("linear", "tet4")]),
+    let generated = ModelForm {
+        law: Law::NeoHookean,
+        element: Tetrahedron::Tet10,
+    };
+    let linear = ModelForm {
+        law: Law::Linear,
+        element: Tetrahedron::Tet4,
+    };
+    let (sets, models): (&[&str], &[ModelForm]) = match depth {
+        Depth::Quick => (&["C"], &[generated]),
+        Depth::Full => (&["A", "C"], &[generated, linear]),
     };
     let mut jobs = Vec::new();
     for &set in sets {
-        for &(material, element) in models {
+        for &model in models {
             jobs.push(Job {
                 data: Source::Shipped,
                 set: set.into(),
-                model: Model::new(material, element),
+                model,
                 nu: None,
             });
         }
@@ -297,7 +311,7 @@ fn results(d: &Done) -> serde_json::Value {
     serde_json::json!({
         "set": d.job.set,
         "data": d.job.data.to_string(),
-        "model": { "material": f.model.material, "element": f.model.element },
+        "model": { "material": f.model.law.name(), "element": f.model.element.name() },
         "E_MPa": {
             "value": f.e,
             "sigma": f.sigma_e,

@@ -37,6 +37,7 @@ impl Report {
         self.dir.join(file)
     }
 
+    /// Starts a section: a `##` heading.
     pub fn heading(&mut self, text: &str) {
         println!("\n## {text}");
         if !self.markdown.is_empty() && !self.markdown.ends_with("\n\n") {

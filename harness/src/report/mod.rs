@@ -16,6 +16,7 @@
 pub mod blade_path;
 pub mod cut_speed_error;
 pub mod default;
+/// The fields section: the pressed abdomen's stress map and the VTU files of both scenes.
 pub mod fields;
 pub mod findings;
 pub mod identification;
@@ -23,6 +24,7 @@ pub mod markdown;
 pub mod model_order;
 pub mod physiology;
 pub mod plot;
+pub mod results;
 pub mod series;
 pub mod speed_error;
 pub mod sweep;

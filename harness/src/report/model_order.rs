@@ -123,7 +123,7 @@ fn configurations(report: &mut Report) -> Result<()> {
         reference.seconds / modal.seconds,
     ));
     for s in &sweeps {
-        let warned: Vec<&model_orders::Case> =
+        let warned: Vec<&model_orders::ConfigurationRun> =
             s.cases.iter().filter(|c| !c.warnings.is_empty()).collect();
         if let Some(first) = warned.first() {
             report.text(&format!(
@@ -145,7 +145,7 @@ fn configurations(report: &mut Report) -> Result<()> {
 
 /// A summary row of one order against the reference.
 fn summary(s: &OrderRun, reference: &OrderRun) -> Vec<String> {
-    let sum = |f: fn(&model_orders::Case) -> f64| s.cases.iter().map(f).sum::<f64>();
+    let sum = |f: fn(&model_orders::ConfigurationRun) -> f64| s.cases.iter().map(f).sum::<f64>();
     let same = |j: usize| {
         if model_orders::ranking(s, j) == model_orders::ranking(reference, j) {
             "yes"

@@ -29,7 +29,9 @@ fn register_font() {
 /// How a curve is drawn.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Mark {
+    /// A line through the points.
     Line,
+    /// A dot at every point, without a line.
     Dots,
     /// A line with a dot at every point.
     LineDots,
@@ -38,8 +40,11 @@ pub enum Mark {
 /// One labelled set of points.
 #[derive(Debug, Clone)]
 pub struct Curve {
+    /// The legend's text.
     pub label: String,
+    /// The (x, y) points in data units; non-finite ones are not drawn.
     pub points: Vec<(f64, f64)>,
+    /// How the curve is drawn.
     pub mark: Mark,
     /// Palette index; curves that belong together (data and model of one line) share one.
     pub colour: usize,
@@ -71,6 +76,7 @@ impl Curve {
         }
     }
 
+    /// The curve with palette entry `index`.
     pub fn colour(mut self, index: usize) -> Self {
         self.colour = index;
         self
@@ -80,13 +86,16 @@ impl Curve {
 /// An axis: its label (with unit) and scale.
 #[derive(Debug, Clone, Default)]
 pub struct Axis {
+    /// The axis title, with unit.
     pub label: String,
+    /// Log scale: the data are drawn as log10, the ticks labelled in exponent form.
     pub log: bool,
     /// Names for the integer positions 0, 1, … (a categorical axis).
     pub categories: Option<Vec<String>>,
 }
 
 impl Axis {
+    /// A linear axis titled `label`.
     pub fn linear(label: &str) -> Self {
         Self {
             label: label.into(),
@@ -94,6 +103,7 @@ impl Axis {
         }
     }
 
+    /// A log axis titled `label`.
     pub fn log(label: &str) -> Self {
         Self {
             label: label.into(),
@@ -133,9 +143,13 @@ impl Axis {
 /// A chart: title, axes and curves.
 #[derive(Debug, Clone)]
 pub struct Chart {
+    /// The chart's caption.
     pub title: String,
+    /// The horizontal axis.
     pub x: Axis,
+    /// The vertical axis.
     pub y: Axis,
+    /// The curves, drawn in order and listed in the legend.
     pub curves: Vec<Curve>,
 }
 
@@ -280,9 +294,11 @@ fn draw_chart<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &Chart) -> R
 /// displacement arrows on top.
 #[derive(Debug, Clone)]
 pub struct MeshMap<'a> {
+    /// The map's caption.
     pub title: String,
     /// Node positions (mm), undeformed.
     pub nodes: &'a [[f64; 2]],
+    /// The triangles as indices into `nodes`.
     pub triangles: &'a [[usize; 3]],
     /// One value per triangle.
     pub values: &'a [f64],
@@ -292,6 +308,7 @@ pub struct MeshMap<'a> {
     pub lines: &'a [[usize; 2]],
     /// Arrows: node and displacement (mm), drawn `arrow_scale` times longer.
     pub arrows: Vec<(usize, [f64; 2])>,
+    /// How many times longer than the displacement the arrows are drawn.
     pub arrow_scale: f64,
 }
 

@@ -15,14 +15,19 @@ use crate::sweep::{simulate, InProcess, InputTable, Schedule, Value};
 /// What `harness simulate` was asked for.
 #[derive(Debug, Clone)]
 pub struct Request<'a> {
+    /// The scene to run (e.g. `abdomen`, `cutblock`).
     pub scene: &'a str,
+    /// Start time (s).
     pub start_time: f64,
+    /// Stop time (s).
     pub stop_time: f64,
+    /// Communication step (s).
     pub step: f64,
     /// `name=value` parameter settings.
     pub set: &'a [String],
     /// A CSV `time,<input>,…`: piecewise-linear input tables.
     pub inputs: Option<&'a Path>,
+    /// The outputs to record (an array output gives one column per element).
     pub record: &'a [String],
     /// Where to write the CSV; standard output when `None`.
     pub out: Option<&'a Path>,

@@ -8,9 +8,11 @@ use indicatif::{ProgressBar, ProgressStyle};
 use super::plot::{self, Axis, Chart, Curve, Mark};
 use super::{Depth, Report};
 use crate::studies::speed_error::{
-    cheapest, measure, pareto, reference, stability, write_csv, Case, Reference, Study, QUANTITIES,
+    cheapest, measure, pareto, reference, write_csv, AbdomenReference, AbdomenRun, Study,
+    QUANTITIES,
 };
-use models::verify::richardson::Extrapolation;
+use crate::studies::stability::stability;
+use models::verify::richardson::RichardsonEstimate;
 
 /// The tolerances the report recommends a setting for.
 const TOLERANCES: [f64; 3] = [0.05, 0.01, 0.001];
@@ -61,7 +63,7 @@ pub fn section(report: &mut Report, depth: Depth) -> Result<()> {
     Ok(())
 }
 
-fn describe_reference(report: &mut Report, study: &Study, reference: &Reference) {
+fn describe_reference(report: &mut Report, study: &Study, reference: &AbdomenReference) {
     let r = study.reference;
     let e = &reference.error;
     report.text(&format!(
@@ -87,7 +89,7 @@ fn describe_reference(report: &mut Report, study: &Study, reference: &Reference)
         r.target / 64,
         r.target / 16,
     ));
-    let fit = |f: &Result<Extrapolation, String>| match f {
+    let fit = |f: &Result<RichardsonEstimate, String>| match f {
         Ok(f) => format!("order {:.2}, {:.6e}", f.order, f.value),
         Err(why) => why.clone(),
     };
@@ -117,7 +119,7 @@ fn describe_reference(report: &mut Report, study: &Study, reference: &Reference)
     );
 }
 
-fn table(report: &mut Report, cases: &[Case]) {
+fn table(report: &mut Report, cases: &[AbdomenRun]) {
     let rows: Vec<Vec<String>> = cases
         .iter()
         .map(|c| {
@@ -164,7 +166,7 @@ fn table(report: &mut Report, cases: &[Case]) {
 
 /// The cheapest case for each tolerance, or why there is none: a tolerance below twice the
 /// reference's own estimated error is not resolvable.
-fn recommendations(report: &mut Report, cases: &[Case], reference: &Reference) {
+fn recommendations(report: &mut Report, cases: &[AbdomenRun], reference: &AbdomenReference) {
     let e = &reference.error;
     // An error that could not be estimated (NaN) resolves nothing.
     let resolvable = (0..QUANTITIES.len())
@@ -207,7 +209,7 @@ fn recommendations(report: &mut Report, cases: &[Case], reference: &Reference) {
 
 /// Error against stepping time per simulated second, one colour per discretization and
 /// integrator, with the Pareto front.
-fn pareto_plot(report: &mut Report, cases: &[Case]) -> Result<()> {
+fn pareto_plot(report: &mut Report, cases: &[AbdomenRun]) -> Result<()> {
     let points: Vec<(f64, f64)> = cases
         .iter()
         .map(|c| (c.ms_per_second(), c.error()))

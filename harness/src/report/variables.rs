@@ -12,7 +12,9 @@ use models::scene::{self, Causality, GeneratorParameter, Start, Variability, Var
 /// The output format of the reference.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
+    /// Plain text: each variable's type, unit, start and range, its description below
     Text,
+    /// Markdown tables, as docs/reference holds them
     Markdown,
 }
 

@@ -10,7 +10,7 @@
 use std::path::Path;
 
 use anyhow::{anyhow, Result};
-use models::assembly::solid::{Elements, Solid};
+use models::assembly::tetrahedra::{Elements, Solid};
 use models::scene::abdomen::discretization::FieldView;
 use models::stress;
 use vtkio::model::{

@@ -14,8 +14,11 @@ use super::cut_speed_error::CELLS;
 /// to 100 mm in `step` mm steps, on the default cells times each of `refine`.
 #[derive(Debug, Clone)]
 pub struct Study {
+    /// The pull of the face y = L (mm), held while the blade advances.
     pub pull: f64,
+    /// The blade's advance per step (mm).
     pub step: f64,
+    /// Factors on the default cells ([`CELLS`]), one crossing per factor.
     pub refine: Vec<f64>,
 }
 
@@ -44,17 +47,24 @@ impl Default for Study {
 /// The outputs at one blade position.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Point {
+    /// The blade position `scalpel_x` (mm).
     pub blade: f64,
+    /// The reaction force on the pulled face (N).
     pub reaction: f64,
+    /// The cut opening: the largest gap between the flanks on the top surface (mm).
     pub opening: f64,
+    /// The largest upward displacement of the bottom surface under the cut plane (mm).
     pub bottom_lift: f64,
 }
 
 /// One mesh's crossing: a point per blade position, the first uncut.
 #[derive(Debug, Clone)]
 pub struct Crossing {
+    /// The factor on the default cells.
     pub refine: f64,
+    /// The outputs at each blade position, from 0 mm.
     pub points: Vec<Point>,
+    /// Wall time of the crossing, set-up included (s).
     pub seconds: f64,
 }
 

@@ -10,27 +10,29 @@ use models::scene::abdomen::Abdomen;
 use crate::sweep::{simulate, InProcess, Schedule, Value};
 
 /// A case: its label and its settings beside the defaults.
-pub struct Case {
+pub struct Variant {
+    /// The case's name in the tables.
     pub label: &'static str,
+    /// The scene parameters the case sets, by name.
     pub settings: Vec<(&'static str, Value)>,
 }
 
 /// The cases: the five shipped configurations (the wall braced, the default), then the
 /// normal pelvis with the wall free, and free and ten times stiffer.
-pub fn cases() -> Vec<Case> {
+pub fn cases() -> Vec<Variant> {
     let text = |s: &str| Value::Text(s.into());
-    let mut cases: Vec<Case> = CONFIGURATIONS
+    let mut cases: Vec<Variant> = CONFIGURATIONS
         .iter()
-        .map(|&c| Case {
+        .map(|&c| Variant {
             label: c,
             settings: vec![("configuration", text(c))],
         })
         .collect();
-    cases.push(Case {
+    cases.push(Variant {
         label: "normal, wall free",
         settings: vec![("abdominal_wall", text("free"))],
     });
-    cases.push(Case {
+    cases.push(Variant {
         label: "normal, wall free, 10× stiffer",
         settings: vec![
             ("abdominal_wall", text("free")),
@@ -48,7 +50,10 @@ pub const KINEMATICS: [&str; 2] = ["linear", "finite"];
 
 /// Peak floor stress (mean, max; MPa) of a case at each kinematics, or why the run failed.
 pub struct Row {
+    /// The case's label.
     pub label: &'static str,
+    /// Per kinematics, in [`KINEMATICS`] order: the peaks (mean, max; MPa), or the error of
+    /// the run.
     pub peaks: [Result<[f64; 2], String>; 2],
 }
 

@@ -26,6 +26,8 @@
 //! Profiles are compared in lab coordinates ([`super::profiles`]); points where the model
 //! has no surface (the open cut) are skipped.
 
+use models::assembly::tetrahedra::Tetrahedron;
+use models::element::Law;
 use std::collections::BTreeMap;
 use std::sync::Mutex;
 
@@ -33,6 +35,7 @@ use anyhow::{bail, Context, Result};
 use argmin::core::{CostFunction, Error as ArgminError, Executor};
 use argmin::solver::brent::BrentOpt;
 use models::scene::cutblock::{CutBlock, PROFILE_STEP};
+use models::scene::Scene;
 
 use super::measurements::{Measurements, Specimen};
 use super::profiles::{deviation, heights, Deviation};
@@ -47,33 +50,40 @@ pub const NU_STEP: f64 = 1e-3;
 /// A fit is at the noise level when its RMS force residual is within this factor of the
 /// force noise and its profile RMS within [`PROFILE_LEVEL`] of the scanner noise.
 pub const FORCE_LEVEL: f64 = 1.5;
+/// A fit is at the noise level only when its profile RMS is within this factor of the
+/// scanner noise (and its forces within [`FORCE_LEVEL`]).
 pub const PROFILE_LEVEL: f64 = 3.0;
 
-/// The model fitted: the cut block's `material` and `element`.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Model {
-    pub material: String,
-    pub element: String,
+/// The model fitted: the cut block's material law and tetrahedron.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ModelForm {
+    /// The material law.
+    pub law: Law,
+    /// The tetrahedron: tet4 or tet10.
+    pub element: Tetrahedron,
 }
 
-impl Model {
-    pub fn new(material: &str, element: &str) -> Self {
-        Self {
-            material: material.into(),
-            element: element.into(),
-        }
+impl ModelForm {
+    /// The form of the scene's `material` and `element` values; an unknown one is refused
+    /// by name.
+    pub fn parse(material: &str, element: &str) -> Result<Self> {
+        Ok(Self {
+            law: Law::parse(material)?,
+            element: Tetrahedron::parse(element)?,
+        })
     }
 }
 
-impl std::fmt::Display for Model {
+impl std::fmt::Display for ModelForm {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{} {}", self.material, self.element)
+        write!(f, "{} {}", self.law.name(), self.element.name())
     }
 }
 
 /// The model's response for one ν with E = 1.
 #[derive(Debug, Clone)]
 pub struct Response {
+    /// Poisson's ratio of the run.
     pub nu: f64,
     /// Reaction force per unit E at each measured pull: g(ν, d).
     pub force_per_e: Vec<f64>,
@@ -87,7 +97,7 @@ pub struct Response {
 
 /// Runs the specimen of `m` with `model`, E = 1 and `nu` through the measured pulls, with
 /// the profiles along its scan lines if `m` has scans.
-pub fn response(m: &Measurements, model: &Model, nu: f64) -> Result<Response> {
+pub fn response(m: &Measurements, model: &ModelForm, nu: f64) -> Result<Response> {
     let lines: Vec<f64> = m.profiles.iter().map(|s| s.x).collect();
     run(&m.specimen, &m.displacement, model, nu, &lines)
 }
@@ -98,14 +108,17 @@ pub fn response(m: &Measurements, model: &Model, nu: f64) -> Result<Response> {
 pub fn run(
     specimen: &Specimen,
     pulls: &[f64],
-    model: &Model,
+    model: &ModelForm,
     nu: f64,
     lines: &[f64],
 ) -> Result<Response> {
     let mut settings = specimen.settings();
     settings.extend([
-        ("material".to_string(), Value::Text(model.material.clone())),
-        ("element".to_string(), Value::Text(model.element.clone())),
+        ("material".to_string(), Value::Text(model.law.name().into())),
+        (
+            "element".to_string(),
+            Value::Text(model.element.name().into()),
+        ),
         ("E".to_string(), Value::Real(1.0)),
         ("nu".to_string(), Value::Real(nu)),
     ]);
@@ -193,19 +206,26 @@ fn chi2(r: &Response, m: &Measurements) -> f64 {
 /// The identification result.
 #[derive(Debug, Clone)]
 pub struct Fit {
-    pub model: Model,
+    /// The model fitted.
+    pub model: ModelForm,
+    /// Poisson's ratio: fitted, or as given.
     pub nu: f64,
+    /// Young's modulus (MPa).
     pub e: f64,
     /// Standard deviations under the stated noise; ν's and the correlation only when ν was
     /// fitted.
     pub sigma_e: f64,
+    /// Standard deviation of ν; `None` when ν was given.
     pub sigma_nu: Option<f64>,
+    /// Correlation of the E and ν estimates; `None` when ν was given.
     pub correlation: Option<f64>,
     /// RMS force residual (N) and χ² per force point.
     pub force_rms: f64,
+    /// χ² per force point: the mean squared force residual over σ_F².
     pub force_chi2: f64,
     /// RMS profile deviation (mm) over all compared points, and each scan line's deviation.
     pub profile_rms: f64,
+    /// Each scan line's deviation, in the specimen's order.
     pub lines: Vec<Deviation>,
     /// Whether the fitted ν lies at an end of [`NU_RANGE`]: the model fits best with a ν
     /// outside what it can take, so ν (and E with it) is no material value.
@@ -229,7 +249,7 @@ impl Fit {
 /// the differences reuse them).
 struct Cache<'a> {
     m: &'a Measurements,
-    model: &'a Model,
+    model: &'a ModelForm,
     runs: Mutex<Vec<Response>>,
     observe: &'a (dyn Fn(f64, f64) + Sync),
 }
@@ -267,12 +287,10 @@ impl CostFunction for &Cache<'_> {
 /// after each run of the scene (for progress).
 pub fn identify(
     m: &Measurements,
-    model: &Model,
+    model: &ModelForm,
     fixed_nu: Option<f64>,
     observe: &(dyn Fn(f64, f64) + Sync),
 ) -> Result<Fit> {
-    models::element::Law::parse(&model.material)?;
-    models::assembly::solid::Tetrahedron::parse(&model.element)?;
     let cache = Cache {
         m,
         model,
@@ -280,8 +298,12 @@ pub fn identify(
         observe,
     };
     let nu = match fixed_nu {
-        Some(nu) if (-1.0..0.5).contains(&nu) => nu,
-        Some(nu) => bail!("--nu {nu} is outside (−1, 0.5)"),
+        Some(nu) => {
+            let mut scene = CutBlock::new();
+            let vr = scene.lookup("nu")?;
+            scene.set_real(vr, &[nu]).context("--nu")?;
+            nu
+        }
         None if !m.has_profiles() => {
             bail!("the set has no profiles to fit ν to: give ν (--nu) to fit E alone")
         }
@@ -317,7 +339,7 @@ pub fn identify(
     }
     let evaluations = cache.runs.lock().expect("no panic holds the lock").len();
     Ok(Fit {
-        model: model.clone(),
+        model: *model,
         nu,
         e,
         sigma_e: covariance.map_or(m.specimen.noise.force / gg.sqrt(), |c| c[0][0].sqrt()),
@@ -402,7 +424,7 @@ mod tests {
     }
 
     /// Noise-free data of `model` with known E and ν on [`specimen`], pulls 0, 2, …, 10 mm.
-    fn synthetic(model: &Model, e: f64, nu: f64) -> Measurements {
+    fn synthetic(model: &ModelForm, e: f64, nu: f64) -> Measurements {
         let displacement: Vec<f64> = (0..=5).map(|k| 2.0 * f64::from(k)).collect();
         let lines = specimen().scan_lines;
         let r = run(&specimen(), &displacement, model, nu, &lines).unwrap();
@@ -431,7 +453,10 @@ mod tests {
     /// relative) and what follows from it for E.
     #[test]
     fn recovers_known_parameters_of_the_neo_hookean_tet10_model() {
-        let model = Model::new("neo-hookean", "tet10");
+        let model = ModelForm {
+            law: Law::NeoHookean,
+            element: Tetrahedron::Tet10,
+        };
         let (e, nu) = (0.045, 0.42);
         let m = synthetic(&model, e, nu);
         let fit = identify(&m, &model, None, &|_, _| {}).unwrap();
@@ -453,7 +478,10 @@ mod tests {
 
     #[test]
     fn forces_alone_give_e_at_a_given_nu_and_trade_e_against_nu() {
-        let model = Model::new("linear", "tet4");
+        let model = ModelForm {
+            law: Law::Linear,
+            element: Tetrahedron::Tet4,
+        };
         let mut m = synthetic(&model, 0.05, 0.4);
         m.profiles = Default::default();
         let e = identify(&m, &model, None, &|_, _| {}).unwrap_err();
@@ -465,14 +493,23 @@ mod tests {
         let other = identify(&m, &model, Some(0.3), &|_, _| {}).unwrap();
         assert!(other.force_rms < 1e-9 * m.force[5], "{}", other.force_rms);
         assert!((other.e - 0.05).abs() > 1e-4, "E should move with ν");
-        assert!(identify(&m, &model, Some(0.5), &|_, _| {}).is_err());
+        // The range of --nu is the scene's (ν < 0.499999), named in the message.
+        let e = identify(&m, &model, Some(0.4999995), &|_, _| {}).unwrap_err();
+        assert!(
+            format!("{e:#}").contains("--nu") && format!("{e:#}").contains("0.4999995"),
+            "{e:#}"
+        );
+        assert!(identify(&m, &model, Some(0.49999), &|_, _| {}).is_ok());
     }
 
     /// Scans that lie off the block compare no point: an error, not a profile RMS of 0
     /// that would call the fit noise-level.
     #[test]
     fn scans_that_compare_no_point_are_an_error() {
-        let model = Model::new("linear", "tet4");
+        let model = ModelForm {
+            law: Law::Linear,
+            element: Tetrahedron::Tet4,
+        };
         let mut m = synthetic(&model, 0.05, 0.4);
         for scan in &mut m.profiles {
             for p in &mut scan.points {

@@ -14,6 +14,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, ensure, Context, Result};
 use serde::Deserialize;
 
+use models::scene::cutblock::CutBlock;
+use models::scene::Scene;
+
 use crate::sweep::Value;
 
 /// The shipped sets A and C (`experiments/data/cutblock`), compiled in so that a copied
@@ -64,7 +67,9 @@ const SHIPPED: [(&str, &str); 10] = [
 /// Where a set's files are: a folder, or the shipped sets compiled into the harness.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Source {
+    /// A folder holding the set's files.
     Folder(PathBuf),
+    /// The shipped sets A and C, compiled into the harness.
     Shipped,
 }
 
@@ -91,6 +96,33 @@ impl Source {
     fn require(&self, file: &str) -> Result<String> {
         self.read(file)?
             .with_context(|| format!("{}: no such file", self.name(file)))
+    }
+
+    /// Refuses a file named as a profile of set `set` that is none of the specimen's scan
+    /// lines (a misnamed scan such as `profile_A_x25.0.csv` would be left out of the fit).
+    fn refuse_unknown_profiles(&self, set: &str, specimen: &Specimen) -> Result<()> {
+        let Self::Folder(dir) = self else {
+            return Ok(());
+        };
+        let expected: Vec<String> = specimen
+            .scan_lines
+            .iter()
+            .map(|&x| Specimen::profile_file(set, x))
+            .collect();
+        let entries =
+            std::fs::read_dir(dir).with_context(|| format!("reading {}", dir.display()))?;
+        for entry in entries {
+            let name = entry?.file_name().to_string_lossy().into_owned();
+            ensure!(
+                !name.starts_with(&format!("profile_{set}_")) || expected.contains(&name),
+                "{}: not a scan line of specimen_{set}.toml, whose scan_lines = {:?} are read \
+                 from {}",
+                self.name(&name),
+                specimen.scan_lines,
+                expected.join(", ")
+            );
+        }
+        Ok(())
     }
 
     /// How errors name a file of this source.
@@ -136,6 +168,7 @@ pub struct Specimen {
     pub cells: [u32; 3],
     /// Cut plane (mm) and depth from the top (mm).
     pub y_cut: f64,
+    /// Cut depth from the top (mm).
     pub cut_depth: f64,
     /// The incision runs in x from 0 to here (mm).
     pub cut_x: f64,
@@ -145,6 +178,7 @@ pub struct Specimen {
     /// (X as written here, e.g. 25 or 37.5).
     #[serde(default = "seed_scan_lines")]
     pub scan_lines: Vec<f64>,
+    /// Standard deviations of the force and the profile noise.
     pub noise: Noise,
 }
 
@@ -168,7 +202,38 @@ impl Specimen {
                 s.size[0]
             );
         }
+        s.check_block(origin)?;
         Ok(s)
+    }
+
+    /// Checks the block, cut and supports as the cut block's scene does (its ranges, then
+    /// the geometry they make together), naming this file's key and value.
+    fn check_block(&self, origin: &str) -> Result<()> {
+        let mut scene = CutBlock::new();
+        let cut = ("scalpel_x".to_string(), Value::Real(self.cut_x));
+        for (name, value) in self.settings().into_iter().chain([cut]) {
+            let vr = scene.lookup(&name)?;
+            match &value {
+                Value::Real(x) => scene.set_real(vr, &[*x]),
+                Value::Text(s) => scene.set_string(vr, s),
+            }
+            .with_context(|| format!("{origin}: {} = {value}", specimen_key(&name)))?;
+        }
+        ensure!(
+            self.cut_depth < self.size[2] || self.cut_x < self.size[0],
+            "{origin}: cut_depth = {} over the whole width (cut_x = {}) cuts the block of \
+             height size[2] = {} in two: nothing would carry the pull",
+            self.cut_depth,
+            self.cut_x,
+            self.size[2]
+        );
+        scene.check().with_context(|| {
+            format!(
+                "{origin}: size = {:?}, cells = {:?}, y_cut = {}, cut_depth = {} do not make a \
+                 block the scene can build",
+                self.size, self.cells, self.y_cut, self.cut_depth
+            )
+        })
     }
 
     /// The file of the scan line at `x`.
@@ -193,6 +258,22 @@ impl Specimen {
     }
 }
 
+/// The specimen file's key of a cut-block variable that [`Specimen::settings`] sets (and
+/// `scalpel_x`, which the identification holds at `cut_x`).
+fn specimen_key(variable: &str) -> String {
+    match variable {
+        "scalpel_x" => "cut_x".into(),
+        _ => match ["x", "y", "z"]
+            .iter()
+            .position(|a| variable.ends_with(&format!("_{a}")))
+        {
+            Some(k) if variable.starts_with("size_") => format!("size[{k}]"),
+            Some(k) if variable.starts_with("cells_") => format!("cells[{k}]"),
+            _ => variable.into(),
+        },
+    }
+}
+
 /// The points of one scan line.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scan {
@@ -205,9 +286,11 @@ pub struct Scan {
 /// A measurement set.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Measurements {
+    /// The specimen the set was measured on.
     pub specimen: Specimen,
     /// Pulls (mm, increasing) and the reaction forces measured at them (N).
     pub displacement: Vec<f64>,
+    /// The reaction force at each pull (N).
     pub force: Vec<f64>,
     /// One scan per line of the specimen at the largest pull; empty when the set has none.
     pub profiles: Vec<Scan>,
@@ -309,6 +392,15 @@ impl Measurements {
             fd[fd.len() - 1].line,
             specimen.size[1]
         );
+        ensure!(
+            last > 0.0,
+            "{origin}: every displacement is {last}: E is fitted to forces at pulls above 0"
+        );
+        ensure!(
+            fd.iter().any(|r| r.values.1 != 0.0),
+            "{origin}: every force is 0: there is nothing to fit E to"
+        );
+        source.refuse_unknown_profiles(set, &specimen)?;
         let mut scans = Vec::new();
         for &x in &specimen.scan_lines {
             let file = Specimen::profile_file(set, x);
@@ -484,6 +576,68 @@ mod tests {
             e.contains("profile_A_x50.csv: no such file, while the set has other scans"),
             "{e}"
         );
+    }
+
+    /// The specimen's values are checked against the scene as the file is read, each error
+    /// naming the file, the key and the value.
+    #[test]
+    fn specimen_values_are_checked_by_key_as_the_file_is_read() {
+        let cases = [
+            (("y_cut = 45.0", "y_cut = 95.0"), "y_cut = 95"),
+            (("cut_x = 100.0", "cut_x = -5.0"), "cut_x = -5"),
+            (
+                ("cells = [6, 16, 14]", "cells = [6, 0, 14]"),
+                "cells[1] = 0",
+            ),
+            (
+                ("cut_depth = 8.5", "cut_depth = 17.0"),
+                "cut_depth = 17 over the whole width",
+            ),
+            (
+                ("size = [100.0, 80.0, 17.0]", "size = [100.0, -80.0, 17.0]"),
+                "size[1] = -80",
+            ),
+            (("support = \"clamped\"", "support = \"glued\""), "glued"),
+        ];
+        for (replace, expected) in cases {
+            let e = error(replace, &[]);
+            assert!(
+                e.contains("specimen_A.toml") && e.contains(expected),
+                "{replace:?}: {e}"
+            );
+        }
+    }
+
+    /// A file named as a profile of the set that is none of its scan lines is refused, and
+    /// data that give no E (no pull above 0, no force) are errors, not NaN.
+    #[test]
+    fn misnamed_profiles_and_degenerate_forces_are_refused() {
+        let forces = (
+            "force_displacement_A.csv",
+            "displacement_mm,force_N\n0,0\n1,0.5\n",
+        );
+        let e = error(
+            ("", ""),
+            &[forces, ("profile_A_x25.0.csv", "y_mm,z_mm\n1,17\n")],
+        );
+        assert!(
+            e.contains("profile_A_x25.0.csv: not a scan line of specimen_A.toml")
+                && e.contains("profile_A_x25.csv"),
+            "{e}"
+        );
+        let e = error(
+            ("", ""),
+            &[("force_displacement_A.csv", &format!("{HEADER}0,1\n"))],
+        );
+        assert!(e.contains("every displacement is 0"), "{e}");
+        let e = error(
+            ("", ""),
+            &[(
+                "force_displacement_A.csv",
+                &format!("{HEADER}0,0\n1,0\n2,0\n"),
+            )],
+        );
+        assert!(e.contains("every force is 0"), "{e}");
     }
 
     /// Columns are read by name; scan lines anywhere the specimen names them; no scans

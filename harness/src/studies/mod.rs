@@ -4,7 +4,8 @@
 //! - [`measurements`]: a cut-block measurement set and the specimen it was taken on;
 //! - [`identify`]: E and ν of the cut block from force–displacement data and laser profiles;
 //! - [`profiles`]: scanner profiles against the model, in the lab frame and aligned;
-//! - [`speed_error`]: run time against error for the abdomen, and stability on hard cases;
+//! - [`speed_error`]: run time against error for the abdomen;
+//! - [`stability`]: the abdomen's integrators on hard cases;
 //! - [`model_orders`]: the shipped configurations in full, hyper-reduced and modal order;
 //! - [`cut_speed_error`]: run time against error for the cut block's models;
 //! - [`blade_path`]: the cut block's outputs as the blade crosses it, on two meshes;
@@ -25,4 +26,5 @@ pub mod peer;
 pub mod physiology;
 pub mod profiles;
 pub mod speed_error;
+pub mod stability;
 pub mod verification;

@@ -31,7 +31,9 @@ pub const INDICATOR_EVERY: usize = 10;
 /// A model order and the kinematics it runs at.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Order {
+    /// The scene's `model_order`: `full`, `reduced` or `modal`.
     pub model_order: &'static str,
+    /// The scene's `kinematics`: `finite` or `linear`.
     pub kinematics: &'static str,
 }
 
@@ -53,7 +55,8 @@ pub const ORDERS: [Order; 3] = [
 
 /// One configuration run in one order.
 #[derive(Debug, Clone)]
-pub struct Case {
+pub struct ConfigurationRun {
+    /// The shipped configuration's name.
     pub configuration: &'static str,
     /// Build and initialization (s; a reduced model's training included).
     pub setup: f64,
@@ -63,6 +66,7 @@ pub struct Case {
     pub peaks: [f64; 2],
     /// The largest error indicator read.
     pub indicator: f64,
+    /// What the scene warned about during the run.
     pub warnings: Vec<String>,
 }
 
@@ -70,8 +74,11 @@ pub struct Case {
 /// with the wall time of the whole.
 #[derive(Debug, Clone)]
 pub struct OrderRun {
+    /// The model order and its kinematics.
     pub order: Order,
-    pub cases: Vec<Case>,
+    /// One run per shipped configuration.
+    pub cases: Vec<ConfigurationRun>,
+    /// Wall time of all the cases together (s).
     pub seconds: f64,
 }
 
@@ -95,7 +102,7 @@ pub fn sweep(order: Order) -> Result<OrderRun> {
 }
 
 /// One configuration in `order`.
-fn case(order: Order, configuration: &'static str) -> Result<Case> {
+fn case(order: Order, configuration: &'static str) -> Result<ConfigurationRun> {
     let settings = vec![
         ("configuration".into(), Value::Text(configuration.into())),
         ("model_order".into(), Value::Text(order.model_order.into())),
@@ -128,7 +135,7 @@ fn case(order: Order, configuration: &'static str) -> Result<Case> {
         let column = run.series.column(name).context("recorded")?;
         *peak = column.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
     }
-    Ok(Case {
+    Ok(ConfigurationRun {
         configuration,
         setup: run.setup.as_secs_f64(),
         stepping: run.stepping.as_secs_f64(),
@@ -160,7 +167,7 @@ pub fn worst_relative(pairs: impl IntoIterator<Item = (f64, f64)>) -> f64 {
 
 /// The configurations' order by quantity `j`'s peak, highest first.
 pub fn ranking(s: &OrderRun, j: usize) -> Vec<&'static str> {
-    let mut cases: Vec<&Case> = s.cases.iter().collect();
+    let mut cases: Vec<&ConfigurationRun> = s.cases.iter().collect();
     cases.sort_by(|a, b| b.peaks[j].total_cmp(&a.peaks[j]));
     cases.iter().map(|c| c.configuration).collect()
 }
@@ -174,7 +181,7 @@ mod tests {
             order: ORDERS[0],
             cases: peaks
                 .iter()
-                .map(|&(configuration, p)| Case {
+                .map(|&(configuration, p)| ConfigurationRun {
                     configuration,
                     setup: 0.0,
                     stepping: 0.0,

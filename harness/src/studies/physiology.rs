@@ -17,16 +17,20 @@ pub const PRESSES: [f64; 7] = [0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4];
 pub struct Point {
     /// The press (N/mm) and the press over the diaphragm's length (kPa).
     pub press: f64,
+    /// The nominal pressure: the press over the diaphragm's length (kPa).
     pub nominal: f64,
     /// The contents' area-weighted mean pressure, −tr σ / 3 (kPa).
     pub pressure: f64,
     /// Downward displacement of the pelvic-floor midpoint and the diaphragm apex, outward
     /// displacement of the abdominal-wall midpoint (mm).
     pub floor_descent: f64,
+    /// Downward displacement of the diaphragm apex (mm).
     pub apex_descent: f64,
+    /// Outward displacement of the abdominal-wall midpoint (mm).
     pub wall_bulge: f64,
     /// Pelvic-floor stress, mean and max (kPa).
     pub floor_mean: f64,
+    /// Pelvic-floor stress, max (kPa).
     pub floor_max: f64,
 }
 
@@ -34,9 +38,11 @@ pub struct Point {
 /// solve found none.
 #[derive(Debug, Clone)]
 pub struct Response {
+    /// The variant's name.
     pub label: &'static str,
     /// The diaphragm's length (mm), over which the press makes its nominal pressure.
     pub diaphragm: f64,
+    /// The response at each of [`PRESSES`], or why the static solve found none.
     pub points: Vec<Result<Point, String>>,
 }
 
@@ -102,9 +108,13 @@ fn point(s: &Abdomen, press: f64, length: f64) -> Result<Point> {
 /// A published figure: what was measured, the value, on whom and how, the source.
 #[derive(Debug, Clone, Copy)]
 pub struct Figure {
+    /// What was measured.
     pub quantity: &'static str,
+    /// The value as the source gives it, with its unit.
     pub value: &'static str,
+    /// On whom and how it was measured.
     pub condition: &'static str,
+    /// The publication.
     pub source: &'static str,
 }
 

@@ -21,8 +21,11 @@ pub const MAX_SHIFT: f64 = 3.0;
 /// Deviation of one profile line from the data: RMS, largest |Δz|, points compared.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Deviation {
+    /// RMS of the residuals data − model (mm).
     pub rms: f64,
+    /// Largest |data − model| (mm).
     pub max: f64,
+    /// Points compared: those where the model has a surface.
     pub points: usize,
 }
 
@@ -71,8 +74,11 @@ pub fn deviation(model: &[f64], data: &[(f64, f64)]) -> Deviation {
 /// A fitted rigid shift of the scan and the deviation after it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Alignment {
+    /// Shift of the scan in y (mm).
     pub dy: f64,
+    /// Shift of the scan in z (mm): minus the mean residual at `dy`.
     pub dz: f64,
+    /// The deviation of the shifted scan.
     pub deviation: Deviation,
 }
 

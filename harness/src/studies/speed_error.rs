@@ -10,8 +10,8 @@
 //! graded family (target/16, /4, /1) and by its distance from the Richardson extrapolation
 //! of an independent family, uniform nested meshes; its time-step error by halving the step
 //! on the family's coarsest mesh. The apex and the floor midpoint are fixed points of every
-//! mesh's boundary sampling, so every case measures the same points. A stability table says
-//! what each integrator does on the hard cases. Results go to a CSV written atomically.
+//! mesh's boundary sampling, so every case measures the same points. Results go to a CSV
+//! written atomically.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -19,10 +19,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{ensure, Context, Result};
 use models::scene::abdomen::Abdomen;
 use models::scene::Scene;
-use models::verify::richardson::{extrapolate, Extrapolation};
-use rayon::prelude::*;
+use models::verify::richardson::{extrapolate, RichardsonEstimate};
 
-use crate::sweep::{simulate, simulate_observed, InProcess, Schedule, Session, Value};
+use crate::sweep::{simulate, InProcess, Schedule, Session, Value};
 
 /// The outputs whose histories are compared.
 pub const QUANTITIES: [&str; 4] = [
@@ -44,10 +43,15 @@ const PEAK: f64 = 0.8;
 /// `mesh_grading`) and the target triangle counts it is run at.
 #[derive(Debug, Clone)]
 pub struct Discretization {
+    /// The scene's `kinematics`: `finite` or `linear`.
     pub kinematics: &'static str,
+    /// The cavity element: `tri3` or `tri6`.
     pub element: &'static str,
+    /// The `formulation`: `displacement` or `mixed`.
     pub formulation: &'static str,
+    /// The `mesh_grading` exponent β (0: uniform).
     pub grading: f64,
+    /// The `target_triangles` of its meshes.
     pub targets: Vec<usize>,
 }
 
@@ -56,8 +60,11 @@ pub struct Discretization {
 /// and target/4 and uniform nested ones (target/64 split into four 1–3 times).
 #[derive(Debug, Clone, Copy)]
 pub struct ReferenceSetting {
+    /// The reference mesh's `target_triangles`.
     pub target: usize,
+    /// Its `mesh_grading` exponent β.
     pub grading: f64,
+    /// Its time step (s).
     pub dt: f64,
 }
 
@@ -65,11 +72,17 @@ pub struct ReferenceSetting {
 /// reference.
 #[derive(Debug, Clone)]
 pub struct Study {
+    /// The model forms and discretizations, each with its meshes.
     pub discretizations: Vec<Discretization>,
+    /// The `model_order`s; all but `full` only where the kinematics is linear.
     pub orders: Vec<&'static str>,
+    /// The integrators (e.g. `houbolt`, `newmark`).
     pub integrators: Vec<&'static str>,
+    /// The time steps (s); each must divide the 20 ms sampling interval.
     pub steps: Vec<f64>,
+    /// Simulated time of every case (s).
     pub duration: f64,
+    /// The reference's setting.
     pub reference: ReferenceSetting,
 }
 
@@ -173,14 +186,15 @@ impl Study {
 /// peak of its history).
 #[derive(Debug, Clone)]
 pub struct ReferenceError {
+    /// Triangles of the reference's mesh.
     pub triangles: usize,
     /// The static outputs at the peak press on the graded family (coarsest first).
     pub graded_values: [[f64; 3]; N],
     /// Richardson extrapolation of the static output on the reference's graded family, or
     /// why there is none.
-    pub graded: [Result<Extrapolation, String>; N],
+    pub graded: [Result<RichardsonEstimate, String>; N],
     /// The same on uniform nested meshes: an independent estimate of the converged value.
-    pub uniform: [Result<Extrapolation, String>; N],
+    pub uniform: [Result<RichardsonEstimate, String>; N],
     /// Relative mesh error estimate of the reference: the larger of the graded family's
     /// Richardson error and the distance of the reference's static output from the uniform
     /// family's extrapolation (NaN if neither exists).
@@ -191,22 +205,32 @@ pub struct ReferenceError {
 
 /// One measured case.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Case {
+pub struct AbdomenRun {
+    /// The scene's `kinematics`.
     pub kinematics: &'static str,
+    /// The cavity element.
     pub element: &'static str,
+    /// The `formulation`.
     pub formulation: &'static str,
+    /// The `mesh_grading` exponent β.
     pub grading: f64,
+    /// Triangles of the case's mesh as built.
     pub triangles: usize,
+    /// The `model_order`.
     pub order: &'static str,
+    /// The integrator.
     pub integrator: String,
+    /// The time step (s), the scene's `max_step`.
     pub dt: f64,
+    /// Set-up time: the parameters set and the scene initialized (ms).
     pub setup_ms: f64,
+    /// Mean stepping time per time step `dt` (ms).
     pub step_ms: f64,
     /// Per quantity: max over the run of |q − q_ref| / max |q_ref|.
     pub errors: [f64; N],
 }
 
-impl Case {
+impl AbdomenRun {
     /// The largest of the errors.
     pub fn error(&self) -> f64 {
         self.errors.iter().fold(0.0, |a, &b| a.max(b))
@@ -220,20 +244,20 @@ impl Case {
 
 /// A configuration of the abdomen: parameter settings.
 #[derive(Debug, Clone, Copy)]
-struct Setting<'a> {
-    kinematics: &'a str,
-    element: &'a str,
-    formulation: &'a str,
-    grading: f64,
-    triangles: usize,
-    subdivisions: u32,
-    order: &'a str,
-    integrator: &'a str,
-    dt: f64,
+pub(crate) struct Setting<'a> {
+    pub(crate) kinematics: &'a str,
+    pub(crate) element: &'a str,
+    pub(crate) formulation: &'a str,
+    pub(crate) grading: f64,
+    pub(crate) triangles: usize,
+    pub(crate) subdivisions: u32,
+    pub(crate) order: &'a str,
+    pub(crate) integrator: &'a str,
+    pub(crate) dt: f64,
 }
 
 impl Setting<'_> {
-    fn values(&self) -> Vec<(String, Value)> {
+    pub(crate) fn values(&self) -> Vec<(String, Value)> {
         vec![
             ("kinematics".into(), Value::Text(self.kinematics.into())),
             ("element".into(), Value::Text(self.element.into())),
@@ -302,13 +326,14 @@ fn relative_deviation(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// The reference histories and their estimated errors.
-pub struct Reference {
+pub struct AbdomenReference {
     histories: [Vec<f64>; N],
+    /// The reference's estimated mesh and time-step errors.
     pub error: ReferenceError,
 }
 
 /// Runs the reference and estimates its mesh and time-step errors.
-pub fn reference(setting: ReferenceSetting, duration: f64) -> Result<Reference> {
+pub fn reference(setting: ReferenceSetting, duration: f64) -> Result<AbdomenReference> {
     let graded = |target: usize, dt: f64| Setting {
         kinematics: "finite",
         element: "tri6",
@@ -371,7 +396,7 @@ pub fn reference(setting: ReferenceSetting, duration: f64) -> Result<Reference> 
             .map_or(f64::NAN, |e| (e.value - reference).abs());
         own.max(independent) / peak(k).max(1e-300)
     });
-    Ok(Reference {
+    Ok(AbdomenReference {
         error: ReferenceError {
             triangles: fine.triangles,
             graded_values,
@@ -401,9 +426,9 @@ fn static_outputs(setting: Setting) -> Result<Vec<f64>> {
 /// Steps that do not divide the sampling interval ([`SAMPLE`]) are refused.
 pub fn measure(
     study: &Study,
-    reference: &Reference,
-    mut progress: impl FnMut(&Case),
-) -> Result<Vec<Case>> {
+    reference: &AbdomenReference,
+    mut progress: impl FnMut(&AbdomenRun),
+) -> Result<Vec<AbdomenRun>> {
     for &dt in &study.steps {
         ensure!(
             dt <= SAMPLE && (SAMPLE / dt - (SAMPLE / dt).round()).abs() < 1e-9,
@@ -415,7 +440,7 @@ pub fn measure(
         let m = run(setting, study.duration)?;
         let errors: [f64; N] =
             std::array::from_fn(|k| relative_deviation(&m.histories[k], &reference.histories[k]));
-        let case = Case {
+        let case = AbdomenRun {
             kinematics: setting.kinematics,
             element: setting.element,
             formulation: setting.formulation,
@@ -435,117 +460,15 @@ pub fn measure(
 }
 
 /// The cheapest case (stepping time per simulated second) within `tolerance`, if any.
-pub fn cheapest(cases: &[Case], tolerance: f64) -> Option<&Case> {
+pub fn cheapest(cases: &[AbdomenRun], tolerance: f64) -> Option<&AbdomenRun> {
     cases
         .iter()
         .filter(|c| c.error() <= tolerance)
         .min_by(|a, b| a.ms_per_second().total_cmp(&b.ms_per_second()))
 }
 
-/// What an integrator did on a hard case.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Stability {
-    pub case: &'static str,
-    pub integrator: &'static str,
-    pub outcome: String,
-}
-
-/// A hard case: label, parameter settings, step.
-type HardCase = (&'static str, Vec<(&'static str, Value)>, f64);
-
-/// Runs each integrator on the hard cases for 0.1 s on a small mesh and says what happened:
-/// "bounded (peak |u| …)", or the error the scene reported.
-pub fn stability() -> Vec<Stability> {
-    let mixed = [
-        ("formulation", Value::Text("mixed".into())),
-        ("cavity_nu", Value::Real(0.4999)),
-    ];
-    let finite = [("kinematics", Value::Text("finite".into()))];
-    let stiff = [
-        ("wall_E", Value::Real(5e3)),
-        ("diaphragm_E", Value::Real(5e3)),
-        ("floor_E", Value::Real(5e3)),
-    ];
-    let cases: [HardCase; 6] = [
-        ("ν = 0.4999 (mixed)", mixed.to_vec(), 1e-3),
-        (
-            "ν = 0.4999, finite strain",
-            [finite.to_vec(), vec![("cavity_nu", Value::Real(0.4999))]].concat(),
-            1e-3,
-        ),
-        ("line elements 1e6 × stiffer", stiff.to_vec(), 1e-3),
-        (
-            "1e6 × stiffer, finite strain",
-            [finite.to_vec(), stiff.to_vec()].concat(),
-            1e-3,
-        ),
-        ("huge dt (0.1 s), finite strain", finite.to_vec(), 0.1),
-        ("dt = 1 ms (above explicit limits)", vec![], 1e-3),
-    ];
-    let runs: Vec<_> = cases
-        .iter()
-        .flat_map(|case| {
-            ["houbolt", "newmark", "central_difference", "rk4"].map(|integrator| (case, integrator))
-        })
-        .collect();
-    // Nothing here is timed: the cases run side by side.
-    runs.into_par_iter()
-        .map(|((case, extra, dt), integrator)| {
-            let mut settings = Setting {
-                kinematics: "linear",
-                element: "tri6",
-                formulation: "displacement",
-                grading: 0.0,
-                triangles: 300,
-                subdivisions: 0,
-                order: "full",
-                integrator,
-                dt: *dt,
-            }
-            .values();
-            settings.extend(extra.iter().map(|(k, v)| (k.to_string(), v.clone())));
-            Stability {
-                case,
-                integrator,
-                outcome: hard_run(&settings, *dt),
-            }
-        })
-        .collect()
-}
-
-/// 0.1 s of `settings` at step `dt`: "bounded (peak |u| …)" or the scene's error.
-fn hard_run(settings: &[(String, Value)], dt: f64) -> String {
-    let schedule = Schedule {
-        start_time: 0.0,
-        stop_time: ((0.1 / dt).round()).max(1.0) * dt,
-        step: dt,
-        settings,
-        inputs: &BTreeMap::new(),
-        record: &[],
-    };
-    let mut peak: f64 = 0.0;
-    let observe = |s: &mut InProcess<Abdomen>, _| {
-        let u =
-            s.0.field()
-                .map_or(0.0, |f| f.u.iter().fold(0.0f64, |a, b| a.max(b.abs())));
-        peak = peak.max(u);
-        Ok(())
-    };
-    match simulate_observed(&mut InProcess(Box::new(Abdomen::new())), &schedule, observe) {
-        Ok(_) => format!("bounded (peak |u| {peak:.3e} mm)"),
-        Err(e) => format!(
-            "refused: {}",
-            e.root_cause()
-                .to_string()
-                .split(';')
-                .next()
-                .unwrap_or_default()
-        ),
-    }
-}
-
 /// Writes the cases as CSV to `path` (atomically, [`crate::atomic::write_atomic`]).
-pub fn write_csv(cases: &[Case], path: &Path) -> Result<PathBuf> {
+pub fn write_csv(cases: &[AbdomenRun], path: &Path) -> Result<PathBuf> {
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
@@ -688,7 +611,7 @@ mod tests {
 
     #[test]
     fn the_cheapest_case_within_a_tolerance_is_found() {
-        let case = |dt: f64, step_ms: f64, e: f64| Case {
+        let case = |dt: f64, step_ms: f64, e: f64| AbdomenRun {
             kinematics: "finite",
             element: "tri6",
             formulation: "displacement",
@@ -709,41 +632,6 @@ mod tests {
         assert_eq!(cheapest(&cases, 0.01), Some(&cases[1]));
         assert_eq!(cheapest(&cases, 0.05).map(|c| c.step_ms), Some(2.0));
         assert_eq!(cheapest(&cases, 1e-3), None);
-    }
-
-    #[test]
-    fn explicit_schemes_above_their_limit_are_refused_and_implicit_ones_stay_bounded() {
-        let table = stability();
-        let outcome = |case: &str, integ: &str| {
-            table
-                .iter()
-                .find(|s| s.case == case && s.integrator == integ)
-                .unwrap()
-                .outcome
-                .clone()
-        };
-        for integ in ["central_difference", "rk4"] {
-            let o = outcome("dt = 1 ms (above explicit limits)", integ);
-            assert!(
-                o.starts_with("refused") && o.contains("unstable"),
-                "{integ}: {o}"
-            );
-        }
-        for integ in ["houbolt", "newmark"] {
-            for case in [
-                "ν = 0.4999 (mixed)",
-                "ν = 0.4999, finite strain",
-                "line elements 1e6 × stiffer",
-                "1e6 × stiffer, finite strain",
-                "huge dt (0.1 s), finite strain",
-            ] {
-                assert!(
-                    outcome(case, integ).starts_with("bounded"),
-                    "{integ} {case}: {}",
-                    outcome(case, integ)
-                );
-            }
-        }
     }
 
     #[test]

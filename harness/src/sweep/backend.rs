@@ -8,7 +8,7 @@ use anyhow::{anyhow, Result};
 use models::scene::{self, Scene};
 use serde::{Deserialize, Serialize};
 
-use super::simulate::{Reference, Session, Value};
+use super::simulate::{Session, Value, VariableRef};
 
 /// Where a case runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -23,7 +23,9 @@ pub enum BackendKind {
 
 /// Opens sessions of a scene on a backend.
 pub enum Backend {
+    /// The scene linked into the harness, by name.
     InProcess(String),
+    /// The packaged FMU, loaded once; each session instantiates it anew.
     #[cfg(feature = "fmu")]
     Fmu(Box<super::fmu::FmuBackend>),
 }
@@ -63,13 +65,13 @@ impl Backend {
 pub struct InProcess<S: Scene + ?Sized>(pub Box<S>);
 
 impl<S: Scene + ?Sized> Session for InProcess<S> {
-    fn reference(&self, name: &str) -> Result<Reference> {
+    fn reference(&self, name: &str) -> Result<VariableRef> {
         let vr = self.0.lookup(name)?;
         let len = self.0.variables()[vr as usize].len;
-        Ok(Reference { vr, len })
+        Ok(VariableRef { vr, len })
     }
 
-    fn set(&mut self, r: Reference, value: &Value) -> Result<()> {
+    fn set(&mut self, r: VariableRef, value: &Value) -> Result<()> {
         match value {
             Value::Real(x) => self.0.set_real(r.vr, &[*x])?,
             Value::Text(s) => self.0.set_string(r.vr, s)?,
@@ -85,7 +87,7 @@ impl<S: Scene + ?Sized> Session for InProcess<S> {
         Ok(self.0.do_step(t, h)?)
     }
 
-    fn get(&mut self, r: Reference, out: &mut [f64]) -> Result<()> {
+    fn get(&mut self, r: VariableRef, out: &mut [f64]) -> Result<()> {
         Ok(self.0.get_real(r.vr, out)?)
     }
 

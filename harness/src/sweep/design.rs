@@ -20,11 +20,14 @@ use super::simulate::Value;
 
 /// One case of the plan: the values it varies (applied over the base parameters).
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Case {
+pub struct DesignPoint {
+    /// The case's number, counted from 0 over all blocks.
     pub id: usize,
     /// The `[[sweep]]` block it comes from and that block's design.
     pub block: usize,
+    /// The design of that block.
     pub design: Design,
+    /// The values the case sets, by parameter name.
     pub values: BTreeMap<String, Value>,
 }
 
@@ -32,8 +35,12 @@ pub struct Case {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Design {
+    /// The value lists zipped: case i takes the i-th value of every list.
     List,
+    /// The Cartesian product of the value lists and of the ranges at `levels` points each.
     Grid,
+    /// `samples` points over the ranges, each range's `samples` strata used once per
+    /// parameter; `seed` makes the plan repeatable.
     LatinHypercube,
 }
 
@@ -41,7 +48,9 @@ pub enum Design {
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Range {
+    /// The smallest value, in the parameter's unit.
     pub min: f64,
+    /// The largest value, in the parameter's unit.
     pub max: f64,
     /// Sample uniformly in log(x).
     #[serde(default)]
@@ -80,20 +89,25 @@ impl Range {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Block {
+    /// How the block turns into cases.
     pub design: Design,
+    /// Value lists by parameter name (list and grid designs).
     #[serde(default)]
     pub values: BTreeMap<String, Vec<Value>>,
+    /// Continuous ranges by parameter name (grid and Latin hypercube designs).
     #[serde(default)]
     pub ranges: BTreeMap<String, Range>,
+    /// Points of a Latin hypercube (that design only).
     pub samples: Option<usize>,
+    /// Seed of the Latin hypercube's random draws (that design only; 0 if not given).
     pub seed: Option<u64>,
 }
 
 /// All cases of all blocks, numbered from 0 in order. No blocks: one case with the base
 /// parameters.
-pub fn expand(blocks: &[Block]) -> Result<Vec<Case>> {
+pub fn expand(blocks: &[Block]) -> Result<Vec<DesignPoint>> {
     if blocks.is_empty() {
-        return Ok(vec![Case {
+        return Ok(vec![DesignPoint {
             id: 0,
             block: 0,
             design: Design::List,
@@ -116,7 +130,7 @@ pub fn expand(blocks: &[Block]) -> Result<Vec<Case>> {
             Design::LatinHypercube => latin_hypercube(block, &key)?,
         };
         for values in points {
-            cases.push(Case {
+            cases.push(DesignPoint {
                 id: cases.len(),
                 block: b,
                 design: block.design,
@@ -232,7 +246,7 @@ mod tests {
         toml::from_str(text).unwrap()
     }
 
-    fn reals(cases: &[Case], name: &str) -> Vec<f64> {
+    fn reals(cases: &[DesignPoint], name: &str) -> Vec<f64> {
         cases
             .iter()
             .map(|c| match c.values[name] {

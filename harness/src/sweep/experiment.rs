@@ -22,7 +22,7 @@ use models::scene::{self, Causality, Scene, Variable, VariableKind};
 use serde::Deserialize;
 
 use super::backend::BackendKind;
-use super::design::{self, Block, Case};
+use super::design::{self, Block, DesignPoint};
 use super::simulate::{check_times, InputTable, Schedule, Value};
 
 /// The shipped experiments by name (`experiments/<name>.toml`), compiled in so that a copied
@@ -68,23 +68,34 @@ struct File {
 /// A checked experiment.
 #[derive(Debug, Clone)]
 pub struct Experiment {
+    /// The experiment's name.
     pub name: String,
+    /// What the experiment is for, in words (empty if not given).
     pub description: String,
+    /// The scene every case runs (e.g. `abdomen`, `cutblock`).
     pub scene: String,
+    /// Where the cases run: in process or through the FMU.
     pub backend: BackendKind,
     /// The FMU for the `fmu` backend (absolute).
     pub fmu: Option<PathBuf>,
+    /// Start time of every case (s).
     pub start_time: f64,
+    /// Stop time of every case (s).
     pub stop_time: f64,
+    /// Communication step (s); a whole number of steps spans start to stop.
     pub step: f64,
     /// Cases in parallel; 0 = one per core.
     pub jobs: usize,
+    /// The scalar outputs every case records, in order.
     pub record: Vec<String>,
     /// The recorded output whose peak the report plots against each parameter.
     pub metric: String,
+    /// Base parameter values, which each case's values override.
     pub parameters: BTreeMap<String, Value>,
+    /// Input tables by input name, the same for every case.
     pub inputs: BTreeMap<String, InputTable>,
-    pub cases: Vec<Case>,
+    /// The cases of all `[[sweep]]` blocks, numbered from 0.
+    pub cases: Vec<DesignPoint>,
     /// The TOML text the experiment was read from.
     pub source: String,
 }
@@ -143,7 +154,7 @@ impl Experiment {
                 .with_context(|| format!("`sweep` case {}", case.id))?;
         }
         let fmu = check_backend(file.backend, file.fmu, base)?;
-        Ok(Self {
+        let experiment = Self {
             name: file.name,
             description: file.description,
             scene: file.scene,
@@ -159,7 +170,41 @@ impl Experiment {
             inputs: file.inputs,
             cases,
             source: text.to_string(),
-        })
+        };
+        for case in &experiment.cases {
+            experiment.check_case(case).with_context(|| {
+                let values: Vec<String> = case
+                    .values
+                    .iter()
+                    .map(|(k, v)| format!("{k} = {v}"))
+                    .collect();
+                format!("`sweep` case {} ({})", case.id, values.join(", "))
+            })?;
+        }
+        Ok(experiment)
+    }
+
+    /// A case's settings on a fresh scene: each value set (the scene refuses what it
+    /// cannot take, e.g. an unknown choice), then the whole checked ([`Scene::check`]:
+    /// values that must fit together, a configuration that resolves) — before any case
+    /// runs. A generated configuration is checked as it is generated.
+    fn check_case(&self, case: &DesignPoint) -> Result<()> {
+        let settings = self.settings(case, Path::new("."))?;
+        let mut scene = scene::create(&self.scene)?;
+        for (name, value) in &settings.values {
+            if let (Some((path, _)), Value::Text(s)) = (&settings.config, value) {
+                if Path::new(s) == path {
+                    continue;
+                }
+            }
+            let vr = scene.lookup(name)?;
+            match value {
+                Value::Real(x) => scene.set_real(vr, &[*x]),
+                Value::Text(s) => scene.set_string(vr, s),
+            }
+            .with_context(|| format!("`{name}` = {value}"))?;
+        }
+        Ok(scene.check()?)
     }
 
     /// This experiment with each Latin hypercube drawn anew with at most `samples` points
@@ -234,7 +279,7 @@ impl Experiment {
     /// The settings of a case: base parameters overridden by the case's values, with any
     /// generator parameters (`anatomy.*`) turned into a configuration file in `configs` —
     /// returned as its path and text for the caller to write.
-    pub fn settings(&self, case: &Case, configs: &Path) -> Result<Settings> {
+    pub fn settings(&self, case: &DesignPoint, configs: &Path) -> Result<Settings> {
         let scene = scene::create(&self.scene)?;
         let generated: Vec<String> = scene
             .generator_parameters()
@@ -271,7 +316,11 @@ impl Experiment {
 /// What a case sets before initialization, and the configuration file it needs written.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Settings {
+    /// Name and value of each variable to set: the base parameters overridden by the case's
+    /// values, with the generated configuration's path among them if there is one.
     pub values: Vec<(String, Value)>,
+    /// The generated configuration file's path and text, if the case sets generator
+    /// parameters.
     pub config: Option<(PathBuf, String)>,
 }
 

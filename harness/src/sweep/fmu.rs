@@ -19,7 +19,7 @@ use fmi::fmi3::{CoSimulation as _, Common as _, Fmi3Model as _, GetSet as _};
 use fmi::schema::fmi3::{AbstractVariableTrait as _, ArrayableVariableTrait as _};
 use fmi::traits::FmiImport as _;
 
-use super::simulate::{Reference, Session, Value};
+use super::simulate::{Session, Value, VariableRef};
 
 thread_local! {
     static LAST_ERROR: RefCell<Option<String>> = const { RefCell::new(None) };
@@ -62,20 +62,20 @@ enum Import {
 pub struct FmuBackend {
     import: Import,
     identifier: String,
-    variables: HashMap<String, Reference>,
+    variables: HashMap<String, VariableRef>,
 }
 
 /// FMI 2 variables by name, with each array `name[i]` also under `name` if its elements
 /// have consecutive value references.
-fn fmi2_variables(import: &Fmi2Import) -> HashMap<String, Reference> {
+fn fmi2_variables(import: &Fmi2Import) -> HashMap<String, VariableRef> {
     let scalars: Vec<(String, u32)> = import
         .model_description()
         .get_model_variables()
         .map(|v| (v.name.clone(), v.value_reference))
         .collect();
-    let mut map: HashMap<String, Reference> = scalars
+    let mut map: HashMap<String, VariableRef> = scalars
         .iter()
-        .map(|(name, vr)| (name.clone(), Reference { vr: *vr, len: 1 }))
+        .map(|(name, vr)| (name.clone(), VariableRef { vr: *vr, len: 1 }))
         .collect();
     for (name, vr) in &scalars {
         let Some(array) = name.strip_suffix("[0]") else {
@@ -84,15 +84,15 @@ fn fmi2_variables(import: &Fmi2Import) -> HashMap<String, Reference> {
         let len = (0..)
             .take_while(|i| map.get(&format!("{array}[{i}]")).map(|r| r.vr) == Some(vr + *i))
             .count();
-        map.insert(array.to_string(), Reference { vr: *vr, len });
+        map.insert(array.to_string(), VariableRef { vr: *vr, len });
     }
     map
 }
 
 /// FMI 3 variables by name; an array's length is the product of its fixed dimensions.
-fn fmi3_variables(import: &Fmi3Import) -> HashMap<String, Reference> {
+fn fmi3_variables(import: &Fmi3Import) -> HashMap<String, VariableRef> {
     let vars = &import.model_description().model_variables;
-    let mut map: HashMap<String, Reference> = vars
+    let mut map: HashMap<String, VariableRef> = vars
         .float64()
         .into_iter()
         .map(|v| {
@@ -103,7 +103,7 @@ fn fmi3_variables(import: &Fmi3Import) -> HashMap<String, Reference> {
                 .product();
             (
                 v.name().to_string(),
-                Reference {
+                VariableRef {
                     vr: v.value_reference(),
                     len,
                 },
@@ -113,7 +113,7 @@ fn fmi3_variables(import: &Fmi3Import) -> HashMap<String, Reference> {
     map.extend(vars.string().into_iter().map(|v| {
         (
             v.name().to_string(),
-            Reference {
+            VariableRef {
                 vr: v.value_reference(),
                 len: 1,
             },
@@ -123,6 +123,9 @@ fn fmi3_variables(import: &Fmi3Import) -> HashMap<String, Reference> {
 }
 
 impl FmuBackend {
+    /// Loads the FMU at `path` (FMI 2.0 or 3.0, co-simulation) and indexes its variables by
+    /// name; installs the logger that captures the FMU's error messages unless another
+    /// logger is installed.
     pub fn load(path: &Path) -> Result<Self> {
         // Another logger may already be installed (then messages go there instead).
         if log::set_logger(&CAPTURE).is_ok() {
@@ -179,7 +182,7 @@ impl FmuBackend {
         })
     }
 
-    fn reference(&self, name: &str) -> Result<Reference> {
+    fn reference(&self, name: &str) -> Result<VariableRef> {
         self.variables
             .get(name)
             .copied()
@@ -197,11 +200,11 @@ struct Fmi2Session<'a> {
 }
 
 impl Session for Fmi2Session<'_> {
-    fn reference(&self, name: &str) -> Result<Reference> {
+    fn reference(&self, name: &str) -> Result<VariableRef> {
         self.backend.reference(name)
     }
 
-    fn set(&mut self, r: Reference, value: &Value) -> Result<()> {
+    fn set(&mut self, r: VariableRef, value: &Value) -> Result<()> {
         match value {
             Value::Real(x) => self
                 .instance
@@ -235,7 +238,7 @@ impl Session for Fmi2Session<'_> {
         Ok(())
     }
 
-    fn get(&mut self, r: Reference, out: &mut [f64]) -> Result<()> {
+    fn get(&mut self, r: VariableRef, out: &mut [f64]) -> Result<()> {
         self.vrs.clear();
         self.vrs.extend(r.vr..r.vr + r.len as u32);
         self.instance
@@ -252,11 +255,11 @@ struct Fmi3Session<'a> {
 }
 
 impl Session for Fmi3Session<'_> {
-    fn reference(&self, name: &str) -> Result<Reference> {
+    fn reference(&self, name: &str) -> Result<VariableRef> {
         self.backend.reference(name)
     }
 
-    fn set(&mut self, r: Reference, value: &Value) -> Result<()> {
+    fn set(&mut self, r: VariableRef, value: &Value) -> Result<()> {
         match value {
             Value::Real(x) => self
                 .instance
@@ -296,7 +299,7 @@ impl Session for Fmi3Session<'_> {
         Ok(())
     }
 
-    fn get(&mut self, r: Reference, out: &mut [f64]) -> Result<()> {
+    fn get(&mut self, r: VariableRef, out: &mut [f64]) -> Result<()> {
         self.instance
             .get_float64(&[r.vr], out)
             .map_err(|e| failure("fmi3GetFloat64", e))?;

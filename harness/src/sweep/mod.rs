@@ -17,9 +17,9 @@ pub mod runner;
 pub mod simulate;
 
 pub use backend::{Backend, BackendKind, InProcess};
-pub use design::{Case, Design};
+pub use design::{Design, DesignPoint};
 pub use experiment::Experiment;
 pub use runner::{prepare, run, CaseResult, Outcome, Sweep};
 pub use simulate::{
-    simulate, simulate_observed, InputTable, Reference, Run, Schedule, Series, Session, Value,
+    simulate, simulate_observed, InputTable, Run, Schedule, Series, Session, Value, VariableRef,
 };

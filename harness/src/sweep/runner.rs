@@ -26,29 +26,40 @@ use crate::atomic::write_atomic;
 pub enum Outcome {
     /// Peak (largest value over time) and final value of every recorded output.
     Finished {
+        /// Largest value over time, one per recorded output.
         peak: Vec<f64>,
+        /// Final value, one per recorded output.
         last: Vec<f64>,
     },
+    /// The case's error message (`did not run` if it has none).
     Failed(String),
 }
 
 /// One row of the summary.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CaseResult {
+    /// The case's number.
     pub id: usize,
+    /// The `[[sweep]]` block the case comes from.
     pub block: usize,
+    /// That block's design.
     pub design: Design,
+    /// The values the case varies, by parameter name.
     pub values: BTreeMap<String, Value>,
+    /// Its outputs' peaks and final values, or its error.
     pub outcome: Outcome,
 }
 
 /// What a sweep left behind.
 #[derive(Debug, Clone)]
 pub struct Sweep {
+    /// The sweep's folder.
     pub dir: PathBuf,
+    /// Every case's result, in case order.
     pub results: Vec<CaseResult>,
     /// Cases run now (the rest were already finished).
     pub ran: usize,
+    /// Wall time of this run of the sweep (s).
     pub seconds: f64,
 }
 

@@ -19,7 +19,9 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum Value {
+    /// A number.
     Real(f64),
+    /// A text (the value of a string parameter).
     Text(String),
 }
 
@@ -36,7 +38,9 @@ impl std::fmt::Display for Value {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InputTable {
+    /// Breakpoint times (s), strictly increasing.
     pub time: Vec<f64>,
+    /// The input's value at each breakpoint.
     pub value: Vec<f64>,
 }
 
@@ -130,21 +134,26 @@ impl InputTable {
 
 /// A variable as a session addresses it: its value reference and its number of values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Reference {
+pub struct VariableRef {
+    /// The value reference.
     pub vr: u32,
+    /// Number of values: 1 for a scalar, n for an array.
     pub len: usize,
 }
 
-/// One running instance of a scene. Variables are addressed by [`Reference`], looked up by
+/// One running instance of a scene. Variables are addressed by [`VariableRef`], looked up by
 /// name once per run.
 pub trait Session {
-    fn reference(&self, name: &str) -> Result<Reference>;
-    fn set(&mut self, r: Reference, value: &Value) -> Result<()>;
+    /// The reference of the variable `name`; an error if there is none.
+    fn reference(&self, name: &str) -> Result<VariableRef>;
+    /// Sets a parameter or an input to `value`.
+    fn set(&mut self, r: VariableRef, value: &Value) -> Result<()>;
     /// Initializes at `start_time` (s).
     fn initialize(&mut self, start_time: f64) -> Result<()>;
+    /// Advances by one communication step of `h` (s) from time `t` (s).
     fn step(&mut self, t: f64, h: f64) -> Result<()>;
     /// Reads all values of the variable into `out` (of length `r.len`).
-    fn get(&mut self, r: Reference, out: &mut [f64]) -> Result<()>;
+    fn get(&mut self, r: VariableRef, out: &mut [f64]) -> Result<()>;
     /// The scene's warnings since the last call (where an input took the model beyond its
     /// validity); none by default.
     fn take_warnings(&mut self) -> Vec<String> {
@@ -158,11 +167,17 @@ pub trait Session {
 /// the same times to the last bit).
 #[derive(Debug, Clone, Copy)]
 pub struct Schedule<'a> {
+    /// Start time (s).
     pub start_time: f64,
+    /// Stop time (s).
     pub stop_time: f64,
+    /// Communication step (s).
     pub step: f64,
+    /// Parameter values set before initialization, by name.
     pub settings: &'a [(String, Value)],
+    /// Input tables by input name, sampled at the start of each step.
     pub inputs: &'a BTreeMap<String, InputTable>,
+    /// The outputs to record, by name.
     pub record: &'a [String],
 }
 
@@ -206,13 +221,16 @@ pub fn check_times(start_time: f64, stop_time: f64, step: f64) -> Result<()> {
 /// array output of n values gives the columns `name[0]` … `name[n−1]`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Series {
+    /// The output columns' names, without the time column.
     pub names: Vec<String>,
+    /// One row per communication point: the time (s), then the outputs.
     pub rows: Vec<Vec<f64>>,
 }
 
 /// A finished run: its outputs and where the time went.
 #[derive(Debug, Clone)]
 pub struct Run {
+    /// The recorded outputs.
     pub series: Series,
     /// Setting the parameters and initializing.
     pub setup: Duration,
@@ -365,15 +383,15 @@ mod tests {
     }
 
     impl Session for Echo {
-        fn reference(&self, name: &str) -> Result<Reference> {
+        fn reference(&self, name: &str) -> Result<VariableRef> {
             match name {
-                "u" => Ok(Reference { vr: 0, len: 1 }),
-                "y" => Ok(Reference { vr: 1, len: 1 }),
-                "pair" => Ok(Reference { vr: 2, len: 2 }),
+                "u" => Ok(VariableRef { vr: 0, len: 1 }),
+                "y" => Ok(VariableRef { vr: 1, len: 1 }),
+                "pair" => Ok(VariableRef { vr: 2, len: 2 }),
                 _ => bail!("no variable named `{name}`"),
             }
         }
-        fn set(&mut self, r: Reference, value: &Value) -> Result<()> {
+        fn set(&mut self, r: VariableRef, value: &Value) -> Result<()> {
             self.calls.push(format!("set {} {value}", r.vr));
             if let Value::Real(x) = value {
                 self.input = *x;
@@ -389,7 +407,7 @@ mod tests {
             self.output = self.input;
             Ok(())
         }
-        fn get(&mut self, r: Reference, out: &mut [f64]) -> Result<()> {
+        fn get(&mut self, r: VariableRef, out: &mut [f64]) -> Result<()> {
             match r.vr {
                 1 => out[0] = self.output,
                 _ => out.copy_from_slice(&[self.output, -self.output]),

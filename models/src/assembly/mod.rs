@@ -8,12 +8,14 @@
 //! pattern and differ only in their value arrays.
 
 pub mod dirichlet;
+pub mod forces;
 pub mod loads;
 pub mod plane;
 pub mod quadratic_plane;
-pub mod solid;
+pub mod tetrahedra;
 
 pub use dirichlet::Dirichlet;
+pub use forces::{ElementForces, InternalForces};
 
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use nalgebra::{Const, Matrix, SMatrix, SMatrixView, SVector, Storage};
@@ -160,7 +162,7 @@ const BLOCK: usize = 256;
 
 /// Fewer elements than this are assembled on the calling thread alone: rayon's hand-offs
 /// would cost more than they save, and its job queue allocates now and then, which the
-/// small systems' step loops must not (`models/tests/no_alloc.rs`).
+/// small systems' step loops must not (`models/tests/dynamics/no_alloc.rs`).
 const PARALLEL_ELEMENTS: usize = 4 * BLOCK;
 
 thread_local! {
@@ -179,7 +181,7 @@ thread_local! {
 /// inverted element is named as the first of its block, whichever thread met one. The
 /// block results live in a per-thread buffer kept between calls (a call made while it is in
 /// use, e.g. from a task rayon runs while this one waits, uses a buffer of its own). Each
-/// kernel starts with a clean vector-register state ([`crate::solve::vector_state`]):
+/// kernel starts with a clean vector-register state ([`crate::linalg::vector_state`]):
 /// rayon's threads also run faer's factorizations.
 pub fn add_internal<const N: usize, const D: usize>(
     elements: &[[usize; N]],
@@ -193,7 +195,7 @@ pub fn add_internal<const N: usize, const D: usize>(
             &SVector<f64, D>,
             &mut SVector<f64, D>,
             Option<&mut SMatrix<f64, D, D>>,
-        ) -> Result<(), crate::element::solid::Inverted>
+        ) -> Result<(), crate::element::total_lagrangian::Inverted>
         + Sync,
 ) -> Result<(), crate::error::ModelError> {
     let tangent = k.is_some();
@@ -204,7 +206,7 @@ pub fn add_internal<const N: usize, const D: usize>(
     // Element e's force and tangent into `out`.
     let element = |e: usize, out: &mut [f64]| {
         // This thread may have run faer's wide kernels (its factorizations).
-        crate::solve::vector_state::clear();
+        crate::linalg::vector_state::clear();
         let el = &elements[e];
         let dpn = D / N;
         let ue = SVector::<f64, D>::from_fn(|row, _| u[dpn * el[row / dpn] + row % dpn]);
@@ -305,7 +307,7 @@ mod tests {
     /// one and two threads; an inverted element is named alike on both (the block's first).
     #[test]
     fn parallel_assembly_is_bit_identical_on_any_number_of_threads() {
-        use crate::assembly::solid::Solid;
+        use crate::assembly::tetrahedra::Solid;
         use crate::element::{Elastic, Law, Material};
         let mesh = crate::mesh::generate::block([100.0, 80.0, 17.0], [6, 16, 14]).unwrap();
         assert!(mesh.tets().len() >= PARALLEL_ELEMENTS);

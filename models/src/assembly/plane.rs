@@ -10,7 +10,9 @@ use crate::mesh::Mesh2d;
 /// Properties of a triangle region: elastic constants and density (t/mm³).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Continuum {
+    /// Elastic constants: Young's modulus (MPa) and Poisson's ratio.
     pub elastic: Elastic,
+    /// Density (t/mm³).
     pub density: f64,
 }
 
@@ -18,8 +20,11 @@ pub struct Continuum {
 /// of out-of-plane depth), density (t/mm³).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Truss {
+    /// Young's modulus (MPa).
     pub young: f64,
+    /// Cross-section (mm² per mm of out-of-plane depth).
     pub area: f64,
+    /// Density (t/mm³).
     pub density: f64,
 }
 
@@ -47,7 +52,9 @@ impl Truss {
 /// Properties indexed by region tag.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlaneProperties {
+    /// The triangles' properties, indexed by triangle region tag.
     pub continua: Vec<Continuum>,
+    /// The line elements' properties, indexed by line region tag.
     pub trusses: Vec<Truss>,
 }
 
@@ -129,14 +136,14 @@ pub fn mass(mesh: &Mesh2d, asm: &Assembler, props: &PlaneProperties, values: &mu
 pub fn lumped_mass(mesh: &Mesh2d, props: &PlaneProperties) -> Vec<f64> {
     let mut m = vec![0.0; mesh.n_dofs()];
     for (i, &r) in mesh.triangle_regions().iter().enumerate() {
-        let lumped = tri3::mass_lumped(&mesh.triangle(i), props.continua[usize::from(r)].density);
+        let lumped = tri3::lumped_mass(&mesh.triangle(i), props.continua[usize::from(r)].density);
         for (k, d) in mesh.triangle_dofs(i).into_iter().enumerate() {
             m[d] += lumped[k];
         }
     }
     for (i, &r) in mesh.line_regions().iter().enumerate() {
         let t = &props.trusses[usize::from(r)];
-        let lumped = line2::mass_lumped(&mesh.line(i), t.density, t.area);
+        let lumped = line2::lumped_mass(&mesh.line(i), t.density, t.area);
         for (k, d) in mesh.line_dofs(i).into_iter().enumerate() {
             m[d] += lumped[k];
         }

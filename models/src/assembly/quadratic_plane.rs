@@ -1,24 +1,22 @@
 //! Global matrices of a mesh of 6-node plane-strain triangles ([`crate::element::tri6`]),
 //! properties per region tag as for the linear mesh ([`super::plane::PlaneProperties`]), in
-//! the displacement or the mixed P2/P0 formulation; and at finite strain ([`PlaneBody`], for
-//! the Newton solver: triangles in either formulation, lines as membranes,
-//! [`crate::element::membrane`]).
+//! the displacement or the mixed P2/P0 formulation; and at finite strain ([`PlaneBody`]:
+//! triangles in either formulation, lines as membranes, [`crate::element::membrane`]).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 use nalgebra::{SMatrix, SVector};
 
+use super::forces::{self, ElementForces, InternalForces};
 use super::plane::{PlaneProperties, Truss};
 use super::Assembler;
-use crate::element::solid::Inverted;
-pub use crate::element::tri6::Formulation;
+use crate::element::mixed;
+pub use crate::element::mixed::Formulation;
+use crate::element::total_lagrangian::Inverted;
 use crate::element::{line3, tri6, Material};
 use crate::error::ModelError;
 use crate::mesh::QuadraticPlaneMesh;
-use crate::solve::ecsw::ElementForces;
-use crate::solve::newton::Equations;
-use crate::solve::structure::InternalForces;
 
 /// Element order for the assembler: all triangles, then all lines.
 pub fn assembler(mesh: &QuadraticPlaneMesh) -> Assembler {
@@ -38,7 +36,7 @@ pub fn stiffness(
     values.fill(0.0);
     for (i, &r) in mesh.triangle_regions().iter().enumerate() {
         let elastic = &props.continua[usize::from(r)].elastic;
-        let k = tri6::stiffness_in(formulation, &mesh.triangle(i), elastic);
+        let k = mixed::stiffness_in(formulation, &mesh.triangle(i), elastic);
         asm.add(values, i, &k);
     }
     add_lines(mesh, asm, props, values, |p, t| {
@@ -87,7 +85,7 @@ pub fn lumped_mass(mesh: &QuadraticPlaneMesh, props: &PlaneProperties) -> Vec<f6
         .zip(mesh.triangle_regions())
         .enumerate()
     {
-        let lumped = tri6::mass_lumped(&mesh.triangle(i), props.continua[usize::from(r)].density);
+        let lumped = tri6::lumped_mass(&mesh.triangle(i), props.continua[usize::from(r)].density);
         scatter(&mut m, el, lumped.as_slice());
     }
     for (i, (el, &r)) in mesh.lines().iter().zip(mesh.line_regions()).enumerate() {
@@ -95,7 +93,7 @@ pub fn lumped_mass(mesh: &QuadraticPlaneMesh, props: &PlaneProperties) -> Vec<f6
         scatter(
             &mut m,
             el,
-            line3::mass_lumped(&mesh.line(i), t.density, t.area).as_slice(),
+            line3::lumped_mass(&mesh.line(i), t.density, t.area).as_slice(),
         );
     }
     m
@@ -109,32 +107,10 @@ pub(crate) fn scatter(global: &mut [f64], nodes: &[usize], values: &[f64]) {
     }
 }
 
-/// A mesh of 6-node triangles at finite strain (plane strain, total Lagrangian), one
-/// material per region, in `formulation`, with its 3-node lines as membranes at finite
-/// strain: the internal forces and tangent for [`crate::solve::Newton`].
-pub struct PlaneBody<'a> {
-    pub mesh: &'a QuadraticPlaneMesh,
-    pub asm: &'a Assembler,
-    pub materials: &'a [Material],
-    pub formulation: Formulation,
-    /// The lines' properties (by line region).
-    pub trusses: &'a [Truss],
-    /// An active tension in the lines of one region.
-    pub active: Option<Active>,
-}
-
-/// An active tension `tension` (N per mm of depth) in the lines of region `region`: a
-/// contracting muscle sheet ([`crate::element::membrane`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Active {
-    pub region: u16,
-    pub tension: f64,
-}
-
 /// An active tension shared between whoever drives the steps, which sets it (the abdomen's
-/// load, at each step's time), and a finite-strain structure's internal forces, which read
-/// it at every evaluation ([`internal_forces`]) and note the value their last tangent was
-/// taken at (a checkpoint must refactorize a kept tangent at that value).
+/// load, at each step's time; a static ramp, at each load fraction), and a [`PlaneBody`],
+/// which reads it at every evaluation and notes the value its last tangent was taken at (a
+/// checkpoint must refactorize a kept tangent at that value).
 #[derive(Debug, Default)]
 pub struct SharedTension {
     now: AtomicU64,
@@ -142,10 +118,12 @@ pub struct SharedTension {
 }
 
 impl SharedTension {
+    /// Sets the tension (N per mm of depth) the next evaluations read.
     pub fn set(&self, tension: f64) {
         self.now.store(tension.to_bits(), Ordering::Relaxed);
     }
 
+    /// The tension the next evaluations read.
     pub fn get(&self) -> f64 {
         f64::from_bits(self.now.load(Ordering::Relaxed))
     }
@@ -161,85 +139,27 @@ impl SharedTension {
     }
 }
 
-impl PlaneBody<'_> {
-    /// Triangle `e`'s internal force and tangent at its nodal displacement (total
-    /// Lagrangian, plane strain, in the body's formulation).
-    fn triangle(
-        &self,
-        e: usize,
-        ue: &SVector<f64, 12>,
-        fe: &mut SVector<f64, 12>,
-        ke: Option<&mut SMatrix<f64, 12, 12>>,
-    ) -> Result<(), Inverted> {
-        let material = &self.materials[usize::from(self.mesh.triangle_regions()[e])];
-        tri6::internal_in(
-            self.formulation,
-            &self.mesh.triangle(e),
-            ue,
-            material,
-            fe,
-            ke,
-        )
-    }
-
-    /// Line `e`'s as a membrane carrying the active tension where its region is the active
-    /// one.
-    fn line(
-        &self,
-        e: usize,
-        ue: &SVector<f64, 6>,
-        fe: &mut SVector<f64, 6>,
-        ke: Option<&mut SMatrix<f64, 6, 6>>,
-    ) -> Result<(), Inverted> {
-        let region = self.mesh.line_regions()[e];
-        let tension = self
-            .active
-            .filter(|a| a.region == region)
-            .map_or(0.0, |a| a.tension);
-        let section = self.trusses[usize::from(region)].section(tension);
-        line3::membrane(&self.mesh.line(e)).internal::<6>(ue, section, fe, ke)
-    }
-}
-
-impl Equations for PlaneBody<'_> {
-    fn add_internal(
-        &mut self,
-        u: &[f64],
-        f: &mut [f64],
-        mut k: Option<&mut [f64]>,
-    ) -> Result<(), ModelError> {
-        let mesh = self.mesh;
-        let body = &*self;
-        super::add_internal(
-            mesh.triangles(),
-            0,
-            self.asm,
-            u,
-            f,
-            k.as_deref_mut(),
-            |e, ue, fe, ke| body.triangle(e, ue, fe, ke),
-        )?;
-        let first = mesh.triangles().len();
-        super::add_internal(mesh.lines(), first, self.asm, u, f, k, |e, ue, fe, ke| {
-            body.line(e, ue, fe, ke)
-        })
-    }
-}
-
-/// The finite-strain body owning what it reads: the internal forces of a dynamic
-/// structure ([`internal_forces`]) and, element by element, of its hyper-reduction
-/// ([`crate::solve::ecsw`]). The lines of `active`'s region carry the tension it holds at
-/// each evaluation.
-pub struct BodyForces {
+/// A mesh of 6-node triangles at finite strain (plane strain, total Lagrangian), one
+/// material per region, in `formulation`, with its 3-node lines as membranes at finite
+/// strain ([`crate::element::membrane`]); the lines of `active`'s region carry the tension it
+/// holds at each evaluation (a contracting muscle sheet). Its internal forces serve the
+/// static Newton solver, a dynamic structure and, element by element, its hyper-reduction.
+pub struct PlaneBody {
+    /// The mesh of 6-node triangles and 3-node lines.
     pub mesh: Arc<QuadraticPlaneMesh>,
+    /// The pattern over the mesh's elements: all triangles, then all lines.
     pub asm: Arc<Assembler>,
+    /// The material of the triangles (by triangle region).
     pub materials: Arc<[Material]>,
+    /// The triangles' formulation: displacement or mixed P2/P0.
     pub formulation: Formulation,
+    /// The lines' properties (by line region).
     pub trusses: Arc<[Truss]>,
+    /// The line region that carries an active tension, and the tension.
     pub active: Option<(u16, Arc<SharedTension>)>,
 }
 
-impl BodyForces {
+impl PlaneBody {
     /// A body of triangles alone (no membranes, no active tension).
     pub fn triangles(
         mesh: Arc<QuadraticPlaneMesh>,
@@ -257,19 +177,51 @@ impl BodyForces {
         }
     }
 
-    /// The body with the active tension as it is now.
-    fn body(&self) -> PlaneBody<'_> {
-        PlaneBody {
-            mesh: &self.mesh,
-            asm: &self.asm,
-            materials: &self.materials,
-            formulation: self.formulation,
-            trusses: &self.trusses,
-            active: self.active.as_ref().map(|(region, t)| Active {
-                region: *region,
-                tension: t.get(),
-            }),
-        }
+    /// Triangle `e`'s internal force and tangent at its nodal displacement (total
+    /// Lagrangian, plane strain, in the body's formulation).
+    fn triangle(
+        &self,
+        e: usize,
+        ue: &SVector<f64, 12>,
+        fe: &mut SVector<f64, 12>,
+        ke: Option<&mut SMatrix<f64, 12, 12>>,
+    ) -> Result<(), Inverted> {
+        let material = &self.materials[usize::from(self.mesh.triangle_regions()[e])];
+        mixed::internal_in(
+            self.formulation,
+            &self.mesh.triangle(e),
+            ue,
+            material,
+            fe,
+            ke,
+        )
+    }
+
+    /// Line `e` as a membrane carrying the active tension `active` (its region and
+    /// tension) where its region is the active one.
+    fn line(
+        &self,
+        e: usize,
+        active: Option<(u16, f64)>,
+        ue: &SVector<f64, 6>,
+        fe: &mut SVector<f64, 6>,
+        ke: Option<&mut SMatrix<f64, 6, 6>>,
+    ) -> Result<(), Inverted> {
+        let region = self.mesh.line_regions()[e];
+        let tension = active.filter(|a| a.0 == region).map_or(0.0, |a| a.1);
+        let section = self.trusses[usize::from(region)].section(tension);
+        line3::membrane(&self.mesh.line(e)).internal::<6>(ue, section, fe, ke)
+    }
+
+    /// The active region and the tension it carries now; the tension noted as the tangent's
+    /// when `tangent`.
+    fn tension(&self, tangent: bool) -> Option<(u16, f64)> {
+        self.active.as_ref().map(|(region, t)| {
+            if tangent {
+                t.tangent_taken();
+            }
+            (*region, t.get())
+        })
     }
 
     /// The nodes of element `e` in the assembler's order: the triangles, then the lines.
@@ -282,7 +234,33 @@ impl BodyForces {
     }
 }
 
-impl ElementForces for BodyForces {
+impl InternalForces for PlaneBody {
+    fn internal(
+        &self,
+        u: &[f64],
+        f: &mut [f64],
+        mut k: Option<&mut [f64]>,
+    ) -> Result<(), ModelError> {
+        forces::clear(f, k.as_deref_mut());
+        let active = self.tension(k.is_some());
+        let mesh = &self.mesh;
+        super::add_internal(
+            mesh.triangles(),
+            0,
+            &self.asm,
+            u,
+            f,
+            k.as_deref_mut(),
+            |e, ue, fe, ke| self.triangle(e, ue, fe, ke),
+        )?;
+        let first = mesh.triangles().len();
+        super::add_internal(mesh.lines(), first, &self.asm, u, f, k, |e, ue, fe, ke| {
+            self.line(e, active, ue, fe, ke)
+        })
+    }
+}
+
+impl ElementForces for PlaneBody {
     fn count(&self) -> usize {
         self.mesh.triangles().len() + self.mesh.lines().len()
     }
@@ -299,22 +277,17 @@ impl ElementForces for BodyForces {
         fe: &mut [f64],
         ke: Option<&mut [f64]>,
     ) -> Result<(), ModelError> {
-        let body = self.body();
+        let active = self.tension(ke.is_some());
         let triangles = self.mesh.triangles().len();
         // Numbered within its kind, as the full assembly names an inverted element.
         let inverted =
             |element: usize| move |inv: Inverted| ModelError::Inverted { element, j: inv.j };
         if e < triangles {
-            kernel::<12>(ue, fe, ke, |u, f, k| body.triangle(e, u, f, k)).map_err(inverted(e))
+            kernel::<12>(ue, fe, ke, |u, f, k| self.triangle(e, u, f, k)).map_err(inverted(e))
         } else {
             let line = e - triangles;
-            kernel::<6>(ue, fe, ke, |u, f, k| body.line(line, u, f, k)).map_err(inverted(line))
-        }
-    }
-
-    fn tangent_taken(&self) {
-        if let Some((_, t)) = &self.active {
-            t.tangent_taken();
+            kernel::<6>(ue, fe, ke, |u, f, k| self.line(line, active, u, f, k))
+                .map_err(inverted(line))
         }
     }
 }
@@ -339,15 +312,4 @@ fn kernel<const D: usize>(
         ke.copy_from_slice(t.as_slice());
     }
     Ok(())
-}
-
-/// The internal forces of the body as a finite-strain structure's
-/// ([`crate::solve::Structure::with_internal_forces`]).
-pub fn internal_forces(forces: Arc<BodyForces>) -> Arc<InternalForces> {
-    Arc::new(move |u, f, k| {
-        if k.is_some() {
-            forces.tangent_taken();
-        }
-        forces.body().internal(u, f, k)
-    })
 }

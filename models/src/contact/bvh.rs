@@ -262,26 +262,33 @@ impl Bvh {
         bvh
     }
 
+    /// The bounding-volume type.
     pub fn kind(&self) -> BvKind {
         self.kind
     }
 
+    /// Number of tree nodes: 2n − 1 for n facets.
     pub fn n_nodes(&self) -> usize {
         2 * self.n_leaves - 1
     }
 
+    /// The root node (the last one).
     pub fn root(&self) -> usize {
         self.n_nodes() - 1
     }
 
+    /// Whether `node` is a leaf (a facet: `node` < n).
     pub fn is_leaf(&self, node: usize) -> bool {
         node < self.n_leaves
     }
 
+    /// The two children of the cluster `node`, which must not be a leaf.
     pub fn children(&self, node: usize) -> [usize; 2] {
         self.children[node - self.n_leaves]
     }
 
+    /// The border nodes of `node` (sorted): its surface nodes that also belong to facets
+    /// outside it.
     pub fn border(&self, node: usize) -> &[usize] {
         &self.border[node]
     }

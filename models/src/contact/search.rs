@@ -17,9 +17,14 @@ use super::surface::Surface;
 /// How often each test ran (seed 001 §3.7 cost model).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Counters {
+    /// Bounding-volume overlap tests.
     pub bv_tests: u64,
+    /// Curvature-criterion tests: of a node's direction bits, and of the bits two adjacent
+    /// nodes share.
     pub curvature_tests: u64,
+    /// Adjacency tests (intersections of two nodes' border lists).
     pub adjacency_tests: u64,
+    /// Leaf pairs that reached the exact facet test (those sharing a node included).
     pub facet_tests: u64,
 }
 
@@ -29,6 +34,7 @@ pub struct Search<'a> {
     bvh: &'a Bvh,
     positions: &'a [[f64; 3]],
     tolerance: f64,
+    /// How often each test ran so far.
     pub counters: Counters,
     pairs: Vec<(usize, usize)>,
 }

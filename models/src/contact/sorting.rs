@@ -11,9 +11,13 @@ use super::surface::Surface;
 /// A contact pair oriented master → slave, with the patch of each side.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Oriented {
+    /// The master facet: the side whose patch (then facet) number is the lower.
     pub master: usize,
+    /// The slave facet.
     pub slave: usize,
+    /// The master facet's patch, numbered by its smallest facet.
     pub master_patch: usize,
+    /// The slave facet's patch, numbered by its smallest facet.
     pub slave_patch: usize,
 }
 

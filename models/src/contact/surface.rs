@@ -8,6 +8,7 @@ use crate::mesh::{Mesh2d, Mesh3d};
 pub struct Surface {
     /// 3 for triangles, 2 for segments.
     pub arity: usize,
+    /// Each facet's surface nodes (numbered compactly); a segment repeats its second node.
     pub facets: Vec<[usize; 3]>,
     /// For each facet, the facets sharing at least one node with it (sorted).
     pub neighbours: Vec<Vec<usize>>,

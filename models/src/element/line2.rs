@@ -5,7 +5,8 @@
 
 use nalgebra::{Matrix2, SMatrix, SVector, Vector2};
 
-use super::membrane::{Line, GAUSS_1};
+use super::membrane::Line;
+use super::quadrature::GAUSS_1;
 
 /// Element displacement vector (u_x1, u_y1, u_x2, u_y2).
 pub type Dofs = SVector<f64, 4>;
@@ -41,7 +42,7 @@ pub fn mass_consistent(p: &[[f64; 2]; 2], density: f64, area: f64) -> SMatrix<f6
 }
 
 /// Lumped mass ρAL/2 on each of the four dofs.
-pub fn mass_lumped(p: &[[f64; 2]; 2], density: f64, area: f64) -> SVector<f64, 4> {
+pub fn lumped_mass(p: &[[f64; 2]; 2], density: f64, area: f64) -> SVector<f64, 4> {
     SVector::repeat(density * area * axis(p).0 / 2.0)
 }
 

@@ -15,7 +15,8 @@
 
 use nalgebra::{SMatrix, SVector, Vector2};
 
-use super::membrane::{Line, Section, GAUSS_3};
+use super::membrane::{Line, Section};
+use super::quadrature::GAUSS_3;
 
 /// Element displacement vector (u_xa, u_ya, u_xm, u_ym, u_xb, u_yb).
 pub type Dofs = SVector<f64, 6>;
@@ -72,7 +73,7 @@ pub fn mass_consistent(p: &[[f64; 2]; 3], density: f64, area: f64) -> SMatrix<f6
 
 /// Lumped mass: the HRZ rule (the consistent diagonal scaled to the element's mass ρ A L),
 /// on a straight element Simpson's 1/6, 2/3, 1/6 of ρAL.
-pub fn mass_lumped(p: &[[f64; 2]; 3], density: f64, area: f64) -> Dofs {
+pub fn lumped_mass(p: &[[f64; 2]; 3], density: f64, area: f64) -> Dofs {
     let m = mass_consistent(p, density, area);
     let length: f64 = GAUSS_3.iter().map(|&(xi, w)| w * reference(p, xi).0).sum();
     let diagonal: f64 = (0..6).step_by(2).map(|i| m[(i, i)]).sum();
@@ -203,6 +204,6 @@ mod tests {
         let m = mass_consistent(&p, 1.5, 0.5);
         let total = 1.5 * 0.5 * 3.0;
         assert!((m.sum() - 2.0 * total).abs() < 1e-13);
-        assert!((mass_lumped(&p, 1.5, 0.5).sum() - 2.0 * total).abs() < 1e-13);
+        assert!((lumped_mass(&p, 1.5, 0.5).sum() - 2.0 * total).abs() < 1e-13);
     }
 }

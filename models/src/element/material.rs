@@ -94,6 +94,7 @@ pub enum Law {
 }
 
 impl Law {
+    /// Every law ([`parse`](Self::parse) searches them).
     pub const ALL: [Self; 3] = [Self::Linear, Self::NeoHookean, Self::StVenantKirchhoff];
 
     /// The name used by the scenes' `material` parameter.
@@ -126,13 +127,16 @@ impl Law {
 /// A law with its Lamé parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Material {
+    /// The material law.
     pub law: Law,
+    /// The elastic constants, from which the Lamé parameters λ and μ follow.
     pub elastic: Elastic,
     lambda: f64,
     mu: f64,
 }
 
 impl Material {
+    /// The law `law` with the Lamé parameters of `elastic`.
     pub fn new(law: Law, elastic: Elastic) -> Self {
         Self {
             law,

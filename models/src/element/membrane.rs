@@ -1,6 +1,6 @@
 //! The line elements at finite strain (issue 26): diaphragm, abdominal wall and pelvic floor
 //! as total Lagrangian membranes in the plane (a sheet of unit depth seen edge-on), for the
-//! 2-node ([`super::line2`]) and 3-node ([`super::line3`]) lines alike.
+//! 2-node (`line2`) and 3-node (`line3`) lines alike.
 //!
 //! **Kinematics.** A reference line X(ξ) = Σ N_a(ξ) X_a, ξ ∈ [−1, 1], with arc length dS =
 //! |X'(ξ)| dξ, deforms to x = Σ N_a (X_a + u_a). The stretch is λ = |dx/dS| and the unit
@@ -22,12 +22,10 @@
 //!
 //! so that P is E ε at small strain (s'(0) = 1 from both sides: at rest the tangent is the
 //! linear element's), the compressive stress saturates at E δ, and the tangent
-//! dP/dλ = E (s'(x) − s(x)) / λ² is continuous. δ = [`SLACK`] = 10⁻³ (measured on the
-//! default abdomen in 2026-11, with the tension-field tangent below: the exact kink, δ → 0,
-//! made Newton's method cycle in the first time step; δ = 10⁻⁴ failed a quarter into the
-//! press on the mixed element; δ = 10⁻² let the slack
-//! diaphragm carry enough compression to make the mixed element's tangent indefinite at the
-//! end of a press).
+//! dP/dλ = E (s'(x) − s(x)) / λ² is continuous. δ = [`SLACK`] = 10⁻³: the exact kink made
+//! Newton's method cycle, a tenth of it failed on the mixed element, ten times it let the
+//! slack diaphragm carry enough compression to make the tangent indefinite
+//! (BENCHMARKS.md, "The membranes' slack smoothing").
 //!
 //! **Active tension.** A muscle sheet may add a tension T (N per mm of depth, its
 //! contraction) to the passive force A P(λ), the same at every stretch: the line then pulls
@@ -46,28 +44,15 @@
 //! element's). A slack line's geometric part is negative, N/λ ≥ −E A δ/λ, and the tangent
 //! keeps it: it is the force's exact derivative, so Newton's method converges quadratically
 //! near slack lines too. Where that makes a system matrix indefinite, the time step's
-//! Newton iteration shifts it towards the mass (`Effective::factorize_tangent` in
-//! [`crate::solve`]) and the static one cuts its increment back. The tension-field tangent
-//! (N replaced by max(N, 0), never indefinite) was used before; measured (2026-11-27, one
-//! run each, `harness simulate abdomen`, 2 s at 10 ms): the default press 1.55 → 1.34 s,
-//! with the abdominal wall free 3.07 → 1.99 s, the outputs the same to 10⁻⁹ of their peaks.
+//! Newton iteration shifts it towards the mass and the static one cuts its increment back.
+//! The tension-field tangent (N replaced by max(N, 0), never indefinite) was used before;
+//! the exact one steps the default press faster, the outputs the same to 10⁻⁹ of their
+//! peaks (BENCHMARKS.md, "The membranes' exact tangent").
 
 use nalgebra::{Matrix2, SMatrix, SVector, Vector2};
 
-use super::solid::Inverted;
-
-/// A quadrature rule on ξ ∈ [−1, 1]: points and weights (summing to 2).
-pub type Rule<const Q: usize> = [(f64, f64); Q];
-
-/// The one-point Gauss rule (exact for the 2-node line, whose stretch is constant).
-pub const GAUSS_1: Rule<1> = [(0.0, 2.0)];
-
-/// The three-point Gauss rule, exact for degree 5 (the 3-node line's small-strain
-/// stiffness has degree 2; at finite strain the integrand is not a polynomial).
-pub const GAUSS_3: Rule<3> = {
-    const X: f64 = 0.774_596_669_241_483_4; // √(3/5)
-    [(-X, 5.0 / 9.0), (0.0, 8.0 / 9.0), (X, 5.0 / 9.0)]
-};
+use super::quadrature::Rule;
+use super::total_lagrangian::Inverted;
 
 /// The compressive log strain δ at which a slack line's stress saturates (see the module
 /// documentation).
@@ -97,8 +82,11 @@ pub fn nominal_tangent(young: f64, stretch: f64) -> f64 {
 /// (mm² per mm of depth) and active tension `tension` (N per mm of depth).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Section {
+    /// Young's modulus E (MPa).
     pub young: f64,
+    /// Reference cross-section A (mm² per mm of depth).
     pub area: f64,
+    /// Active tension T (N per mm of depth).
     pub tension: f64,
 }
 
@@ -112,8 +100,11 @@ impl Section {
 /// A line element: its reference nodes, its shape-function derivatives dN/dξ and its
 /// quadrature rule.
 pub struct Line<'a, const N: usize, const Q: usize> {
+    /// The reference positions of the nodes (mm).
     pub nodes: &'a [[f64; 2]; N],
+    /// The shape-function derivatives dN_a/dξ at ξ.
     pub derivatives: fn(f64) -> [f64; N],
+    /// The Gauss rule on ξ ∈ [−1, 1].
     pub rule: &'a Rule<Q>,
 }
 

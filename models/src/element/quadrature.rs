@@ -1,5 +1,7 @@
-//! Quadrature rules on the tetrahedron, in barycentric coordinates (λ₀, λ₁, λ₂, λ₃) with
-//! weights that sum to 1 (multiply by the volume).
+//! The quadrature rules of the elements, in one place: on the tetrahedron in barycentric
+//! coordinates (λ₀, λ₁, λ₂, λ₃) with weights that sum to 1 (multiply by the volume), on the
+//! triangle in area coordinates (L₀, L₁, L₂) with weights that sum to 1 (multiply by the
+//! area), and Gauss's on the line ξ ∈ [−1, 1] with weights that sum to 2.
 //!
 //! - [`TET_1`]: the centroid, exact for degree 1 (the linear tetrahedron's constant gradient);
 //! - [`TET_4`]: four points (a, a, a, 1 − 3a) with a = (5 − √5)/20, exact for degree 2 (the
@@ -8,16 +10,22 @@
 //!   (Walkington's rule; the parameters below were solved from the moment equations and are
 //!   checked against every monomial up to degree 5 by the tests). The quadratic tetrahedron
 //!   uses it for finite strain, where the integrand is not a polynomial: the shipped data
-//!   sets were generated with a rule of order 4.
+//!   sets were generated with a rule of order 4;
+//! - [`TRI_3`], [`TRI_6`]: three and six points on the triangle, exact for degrees 2 and 4;
+//! - [`GAUSS_1`], [`GAUSS_3`]: one and three Gauss points on the line, exact for degrees 1
+//!   and 5.
 
-/// A quadrature point: barycentric coordinates and weight (fraction of the volume).
-pub type Point = ([f64; 4], f64);
+/// A point of a rule on the tetrahedron: barycentric coordinates and weight (fraction of
+/// the volume).
+pub type TetPoint = ([f64; 4], f64);
 
-pub const TET_1: [Point; 1] = [([0.25; 4], 1.0)];
+/// The one-point rule at the centroid, exact for degree 1.
+pub const TET_1: [TetPoint; 1] = [([0.25; 4], 1.0)];
 
 const A4: f64 = 0.138_196_601_125_010_5;
 const B4: f64 = 1.0 - 3.0 * A4;
-pub const TET_4: [Point; 4] = [
+/// The four-point rule (a, a, a, 1 − 3a), a = (5 − √5)/20, exact for degree 2.
+pub const TET_4: [TetPoint; 4] = [
     ([B4, A4, A4, A4], 0.25),
     ([A4, B4, A4, A4], 0.25),
     ([A4, A4, B4, A4], 0.25),
@@ -33,7 +41,8 @@ const WC: f64 = 0.073_493_043_116_361_6;
 const E: f64 = 0.045_503_704_125_649_7;
 const F: f64 = 0.5 - E;
 const WE: f64 = 0.042_546_020_777_081_8;
-pub const TET_14: [Point; 14] = [
+/// Walkington's symmetric 14-point rule with positive weights, exact for degree 5.
+pub const TET_14: [TetPoint; 14] = [
     ([B, A, A, A], WA),
     ([A, B, A, A], WA),
     ([A, A, B, A], WA),
@@ -50,6 +59,46 @@ pub const TET_14: [Point; 14] = [
     ([F, F, E, E], WE),
 ];
 
+/// A quadrature point: area coordinates and a weight (the weights sum to 1; multiply by the
+/// area).
+pub type TriPoint = ([f64; 3], f64);
+
+/// The 3-point rule at the edge midpoints' interior images (Strang & Fix), exact for degree 2.
+pub const TRI_3: [TriPoint; 3] = [
+    ([2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0], 1.0 / 3.0),
+    ([1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0], 1.0 / 3.0),
+    ([1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0], 1.0 / 3.0),
+];
+
+/// The 6-point rule of Dunavant (1985), exact for degree 4 (the consistent mass NᵀN).
+pub const TRI_6: [TriPoint; 6] = {
+    const A: f64 = 0.445_948_490_915_965;
+    const WA: f64 = 0.223_381_589_678_011;
+    const B: f64 = 0.091_576_213_509_771;
+    const WB: f64 = 0.109_951_743_655_322;
+    [
+        ([1.0 - 2.0 * A, A, A], WA),
+        ([A, 1.0 - 2.0 * A, A], WA),
+        ([A, A, 1.0 - 2.0 * A], WA),
+        ([1.0 - 2.0 * B, B, B], WB),
+        ([B, 1.0 - 2.0 * B, B], WB),
+        ([B, B, 1.0 - 2.0 * B], WB),
+    ]
+};
+
+/// A quadrature rule on ξ ∈ [−1, 1]: points and weights (summing to 2).
+pub type Rule<const Q: usize> = [(f64, f64); Q];
+
+/// The one-point Gauss rule (exact for the 2-node line, whose stretch is constant).
+pub const GAUSS_1: Rule<1> = [(0.0, 2.0)];
+
+/// The three-point Gauss rule, exact for degree 5 (the 3-node line's small-strain
+/// stiffness has degree 2; at finite strain the integrand is not a polynomial).
+pub const GAUSS_3: Rule<3> = {
+    const X: f64 = 0.774_596_669_241_483_4; // √(3/5)
+    [(-X, 5.0 / 9.0), (0.0, 8.0 / 9.0), (X, 5.0 / 9.0)]
+};
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -64,7 +113,7 @@ mod tests {
         6.0 * alpha.iter().map(|&a| factorial(a)).product::<f64>() / factorial(n + 3)
     }
 
-    fn check(rule: &[Point], degree: u32) {
+    fn check(rule: &[TetPoint], degree: u32) {
         let mut worst: f64 = 0.0;
         for a in 0..=degree {
             for b in 0..=degree - a {

@@ -77,7 +77,7 @@ pub fn mass_consistent(p: &[[f64; 3]; 4], density: f64) -> SMatrix<f64, 12, 12> 
 }
 
 /// Lumped mass ρV/4 on each of the twelve dofs.
-pub fn mass_lumped(p: &[[f64; 3]; 4], density: f64) -> SVector<f64, 12> {
+pub fn lumped_mass(p: &[[f64; 3]; 4], density: f64) -> SVector<f64, 12> {
     SVector::repeat(density * signed_volume(p) / 4.0)
 }
 

@@ -54,7 +54,7 @@ pub fn mass_consistent(p: &[[f64; 2]; 3], density: f64) -> SMatrix<f64, 6, 6> {
 }
 
 /// Lumped (row-sum) mass: ρA/3 on each of the six dofs (unit thickness).
-pub fn mass_lumped(p: &[[f64; 2]; 3], density: f64) -> SVector<f64, 6> {
+pub fn lumped_mass(p: &[[f64; 2]; 3], density: f64) -> SVector<f64, 6> {
     SVector::repeat(density * signed_area(p) / 3.0)
 }
 
@@ -99,7 +99,7 @@ mod tests {
         // Translational rigid motion in x: total inertia equals the element mass.
         let ux = Dofs::from_fn(|r, _| if r % 2 == 0 { 1.0 } else { 0.0 });
         assert!(((ux.transpose() * mc * ux)[0] - total).abs() < 1e-12 * total);
-        assert!((mass_lumped(&P, rho).sum() - 2.0 * total).abs() < 1e-12 * total);
+        assert!((lumped_mass(&P, rho).sum() - 2.0 * total).abs() < 1e-12 * total);
     }
 
     #[test]

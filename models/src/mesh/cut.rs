@@ -11,8 +11,11 @@ use crate::error::ModelError;
 /// A planar incision in the plane y = `y` over `x` × `z` (mm).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Incision {
+    /// The y coordinate y₀ of the cut plane (mm).
     pub y: f64,
+    /// The incision's extent in x, (x₀, x₁) (mm).
     pub x: (f64, f64),
+    /// The incision's extent in z, (z₀, z₁) (mm).
     pub z: (f64, f64),
 }
 
@@ -20,7 +23,9 @@ pub struct Incision {
 /// cut before it opened (front: y < y₀ side).
 #[derive(Debug, Clone)]
 pub struct CutMesh {
+    /// The mesh after the cut.
     pub mesh: Mesh3d,
+    /// The node pairs (front flank, back flank) facing each other across the cut.
     pub flank_pairs: Vec<(usize, usize)>,
 }
 

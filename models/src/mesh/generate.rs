@@ -186,12 +186,10 @@ pub fn block(size: [f64; 3], cells: [usize; 3]) -> Result<Mesh3d, ModelError> {
 
 /// Memory of a block mesh with `n` node planes per axis and of its assembled system,
 /// estimated before anything is allocated: per node its coordinates and about 120 stored
-/// entries of the 3-dof stiffness pattern (measured: 103–112 on the default mesh and two
-/// refinements with [`Split::Alternating`], 116 with [`Split::ExtrudedX`] on the default
-/// block, counted 2026-11-27 by a scratch program), each an index
-/// and three value copies (element sum, with contact, reduced); per cube five tetrahedra
-/// with 32 bytes and a 12 × 12 scatter map of 8-byte indices each (the assembler's map is
-/// smaller since 2026-11-27, 16 node pairs of 16 bytes, so that even the six tetrahedra of
+/// entries of the 3-dof stiffness pattern (counted: BENCHMARKS.md, "Memory estimates"), each
+/// an index and three value copies (element sum, with contact, reduced); per cube five
+/// tetrahedra with 32 bytes and a 12 × 12 scatter map of 8-byte indices each (the
+/// assembler's map is smaller, 16 node pairs of 16 bytes, so that even the six tetrahedra of
 /// [`Split::ExtrudedX`] take about 4 kB less per cube than estimated: the estimate errs
 /// towards refusing, and is kept so that the refusals of the FMUs' tested ranges stay where
 /// they were).
@@ -211,7 +209,11 @@ pub enum Split {
     /// Five per cube, the split mirrored in every other cube (seed 002 §3.1); cube
     /// (i, j, k) is mirrored when i + j + k + `mirrored` is odd, so that a caller that adds
     /// a plane can keep the split of the cubes beyond it.
-    Alternating { mirrored: bool },
+    Alternating {
+        /// Whether the alternation is shifted by one: the cubes with i + j + k even are
+        /// mirrored instead of those with i + j + k odd.
+        mirrored: bool,
+    },
     /// Six per cube: each (y, z) square split into two triangles along alternating
     /// diagonals, each triangle extruded along x into a prism of three tetrahedra, the
     /// prisms of every other x layer mirrored in x (layer i mirrored when i + `mirrored` is
@@ -222,7 +224,11 @@ pub enum Split {
     /// without it. (The five-tetrahedra split's central tetrahedron joins four corners with
     /// four different (y, z) positions: flattened, it also forces every square of the
     /// layer to stay planar, a stiffening that stays as δ → 0.)
-    ExtrudedX { mirrored: bool },
+    ExtrudedX {
+        /// Whether the alternation is shifted by one: the layers with i even are mirrored
+        /// instead of those with i odd.
+        mirrored: bool,
+    },
 }
 
 /// Like [`block`], but on arbitrary (strictly increasing) node planes per axis, so that a

@@ -11,13 +11,13 @@ mod node_sets;
 mod plane;
 mod quadratic;
 mod quadratic_plane;
-mod solid;
+mod tetrahedral;
 
 pub use node_sets::NodeSets;
 pub use plane::Mesh2d;
 pub use quadratic::QuadraticMesh;
 pub use quadratic_plane::QuadraticPlaneMesh;
-pub use solid::{BoundaryFace, Mesh3d};
+pub use tetrahedral::{BoundaryFace, Mesh3d};
 
 use crate::error::ModelError;
 

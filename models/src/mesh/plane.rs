@@ -125,21 +125,27 @@ impl Mesh2d {
         self.node_sets.insert(name, nodes, self.nodes.len())
     }
 
+    /// Node coordinates (mm).
     pub fn nodes(&self) -> &[[f64; 2]] {
         &self.nodes
     }
+    /// The triangles' nodes, counter-clockwise.
     pub fn triangles(&self) -> &[[usize; 3]] {
         &self.triangles
     }
+    /// The region tag (tissue) of each triangle.
     pub fn triangle_regions(&self) -> &[u16] {
         &self.triangle_regions
     }
+    /// The line elements' nodes.
     pub fn lines(&self) -> &[[usize; 2]] {
         &self.lines
     }
+    /// The region tag (tissue) of each line element.
     pub fn line_regions(&self) -> &[u16] {
         &self.line_regions
     }
+    /// The named node sets.
     pub fn node_sets(&self) -> &NodeSets {
         &self.node_sets
     }

@@ -53,10 +53,12 @@ impl QuadraticMesh {
         }
     }
 
+    /// Node coordinates (mm): the corners, then the mid-edge nodes.
     pub fn nodes(&self) -> &[[f64; 3]] {
         &self.nodes
     }
 
+    /// The tetrahedra's ten nodes each (node order as [`crate::element::tet10`]).
     pub fn tets(&self) -> &[[usize; 10]] {
         &self.tets
     }

@@ -55,6 +55,7 @@ impl QuadraticPlaneMesh {
         &self.lines
     }
 
+    /// The region tag (tissue) of each line.
     pub fn line_regions(&self) -> &[u16] {
         &self.line_regions
     }
@@ -64,14 +65,18 @@ impl QuadraticPlaneMesh {
         self.lines[i].map(|n| self.nodes[n])
     }
 
+    /// Node coordinates (mm): the linear mesh's nodes, then the mid-edge nodes.
     pub fn nodes(&self) -> &[[f64; 2]] {
         &self.nodes
     }
 
+    /// The triangles' six nodes each: corners, then the mid-edge nodes of edges 0–1, 1–2,
+    /// 2–0.
     pub fn triangles(&self) -> &[[usize; 6]] {
         &self.triangles
     }
 
+    /// The region tag (tissue) of each triangle.
     pub fn triangle_regions(&self) -> &[u16] {
         &self.regions
     }

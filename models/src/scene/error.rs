@@ -11,39 +11,67 @@ use crate::error::ModelError;
 /// Errors of a scene.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum SceneError {
+    /// A value reference that is not a row of the variable table (the reference given).
     #[error("unknown value reference {0}")]
     UnknownVariable(u32),
+    /// A name that no variable of the table has (the name given).
     #[error("no variable named `{0}`")]
     UnknownName(String),
+    /// A real value for a string variable, or the other way round.
     #[error("variable `{name}` is {actual}, not {expected}")]
     WrongKind {
+        /// The variable's name.
         name: String,
+        /// The kind the call takes: `"real"` or `"string"`.
         expected: &'static str,
+        /// The variable's own kind: `"real"` or `"string"`.
         actual: &'static str,
     },
+    /// A number of values that is not the variable's number of elements.
     #[error("variable `{name}` expects {expected} values, got {got}")]
     WrongLength {
+        /// The variable's name.
         name: String,
+        /// The variable's number of elements.
         expected: usize,
+        /// The number of values given (or of places to read them into).
         got: usize,
     },
+    /// A real value that is not finite or lies outside the variable's range.
     #[error("value {value} for `{name}` is out of range [{min}, {max}]")]
     OutOfRange {
+        /// The variable's name.
         name: String,
+        /// The value given, in the variable's unit.
         value: f64,
+        /// The smallest value the variable takes, in its unit.
         min: f64,
+        /// The largest value the variable takes, in its unit.
         max: f64,
     },
+    /// A set of an output, or of a fixed parameter after initialization.
     #[error("variable `{name}` cannot be set now: {reason}")]
-    NotSettable { name: String, reason: &'static str },
+    NotSettable {
+        /// The variable's name.
+        name: String,
+        /// Why it cannot be set: it is an output, or it is fixed and the scene initialized.
+        reason: &'static str,
+    },
     /// Reading an output or stepping before the scene is initialized.
     #[error("`{name}` is not available: the scene is not initialized")]
-    NotInitialized { name: String },
+    NotInitialized {
+        /// The output variable's name, or the call that needs the built model (`do_step`,
+        /// `restart`, `profile`, …).
+        name: String,
+    },
     /// A call argument that is not a variable (the step size).
     #[error("{name} = {value} {reason}")]
     InvalidArgument {
+        /// What the argument is (`step size h`, `start time`, `displacement length`, …).
         name: &'static str,
+        /// The value given (s for times, a count for lengths).
         value: f64,
+        /// What the argument must be (`must be finite and > 0`, …).
         reason: &'static str,
     },
     /// A communication step that would take more substeps than the scene allows.
@@ -53,9 +81,13 @@ pub enum SceneError {
          communication step"
     )]
     TooManySubsteps {
+        /// The communication step size (s).
         h: f64,
+        /// The largest internal time step, the `max_step` parameter (s).
         max_step: f64,
+        /// The number of substeps the communication step would take.
         substeps: f64,
+        /// The most substeps one communication step may take.
         limit: f64,
     },
     /// A change of a prescribed displacement that would take more Newton load increments
@@ -66,12 +98,18 @@ pub enum SceneError {
          take; raise max_increment or spread the change over more steps"
     )]
     TooManyIncrements {
+        /// The input whose change it is (`pull`).
         input: &'static str,
+        /// The size of the change in one step (mm).
         change: f64,
+        /// The largest change one Newton load increment takes, `max_increment` (mm).
         max_increment: f64,
+        /// The number of load increments the change would take.
         increments: f64,
+        /// The most load increments one step may take.
         limit: f64,
     },
+    /// Parameters or configuration files that describe no valid model (the cause).
     #[error("invalid configuration: {0}")]
     Config(String),
     /// An explicit integrator asked to step above its stability limit.
@@ -80,14 +118,19 @@ pub enum SceneError {
          lower max_step or use houbolt/newmark"
     )]
     Unstable {
+        /// The integrator's name.
         integrator: &'static str,
+        /// The time step asked for (s).
         dt: f64,
+        /// The integrator's critical time step for this model (s).
         limit: f64,
     },
     /// An iteration that did not settle.
     #[error("{what} did not settle in {iterations} iterations")]
     NotConverged {
+        /// What did not settle (the flank contact's active set, …).
         what: &'static str,
+        /// The number of iterations or solves taken before giving up.
         iterations: usize,
     },
     /// The incision would cut a body free of its support.
@@ -96,8 +139,11 @@ pub enum SceneError {
          {at:?} mm does not touch the supported face y = 0 and would float"
     )]
     Separated {
+        /// The number of connected bodies the cut leaves.
         bodies: usize,
+        /// A node of a body that does not touch the supported face (its index in the mesh).
         node: usize,
+        /// That node's position (x, y, z; mm).
         at: [f64; 3],
     },
     /// Cut flanks that slid or turned past each other further than the contact model's
@@ -107,7 +153,17 @@ pub enum SceneError {
          mm the contact accepts: the flanks slid or turned further than its small-sliding \
          range covers; lower press_force or the closing pull"
     )]
-    Slid { node: usize, depth: f64, limit: f64 },
+    Slid {
+        /// The flank node that lies deepest behind the opposite flank (its index in the
+        /// mesh).
+        node: usize,
+        /// How deep it lies behind the opposite flank (mm).
+        depth: f64,
+        /// The deepest penetration the contact accepts (mm): the sliding limit times the y
+        /// size of the cell in front of the cut.
+        limit: f64,
+    },
+    /// An error of the model underneath: its parameters, assembly or solution.
     #[error(transparent)]
     Model(#[from] ModelError),
 }

@@ -6,10 +6,12 @@
 pub mod abdomen;
 pub mod cutblock;
 mod error;
+mod inert;
 mod state;
 mod variables;
 
 pub use error::{ErrorKind, SceneError};
+pub use inert::Inert;
 pub use state::SceneState;
 pub use variables::{
     outputs, Causality, Start, Values, ValuesState, Variability, Variable, VariableKind,
@@ -60,10 +62,15 @@ pub fn create(name: &str) -> Result<Box<dyn Scene>, SceneError> {
 /// file (the abdomen's outline generator: `anatomy.outlet`, …).
 #[derive(Debug, Clone, PartialEq)]
 pub struct GeneratorParameter {
+    /// The parameter's name (`anatomy.<field>`), as the generator takes it.
     pub name: String,
+    /// The unit of its value (`mm`, `°`, …).
     pub unit: &'static str,
+    /// The smallest value the generator accepts, in the unit.
     pub min: f64,
+    /// The largest value the generator accepts, in the unit.
     pub max: f64,
+    /// What the parameter is, in words.
     pub description: &'static str,
 }
 
@@ -71,7 +78,9 @@ pub struct GeneratorParameter {
 /// file's path.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GeneratedConfiguration {
+    /// The name of the string parameter that takes the file's path (`configuration`).
     pub parameter: &'static str,
+    /// The file's text (TOML for the abdomen).
     pub text: String,
 }
 
@@ -92,6 +101,13 @@ pub trait Scene: Send {
 
     /// Reads a string variable.
     fn get_string(&self, vr: u32) -> Result<String, SceneError>;
+
+    /// Checks that the values set so far describe a model the scene can build — what no
+    /// single set can see: values that must fit together (the cut plane inside the block),
+    /// a configuration that resolves, a model order the kinematics allow — without building
+    /// it (no mesh, no matrix). [`Scene::initialize`] refuses what this refuses, with the
+    /// same error, before its work.
+    fn check(&self) -> Result<(), SceneError>;
 
     /// Builds everything the configuration needs (mesh, matrices, factorization) and solves
     /// the initial state at `start_time` (s). Fixed parameters cannot change afterwards.
@@ -146,13 +162,6 @@ pub trait Scene: Send {
     }
 }
 
-/// A time (s) as messages print it: rounded to 12 significant digits, so that a sum of steps
-/// reads `0.3`, not `0.30000000000000004`.
-pub fn seconds(t: f64) -> String {
-    let rounded: f64 = format!("{t:.11e}").parse().unwrap_or(t);
-    format!("{rounded}")
-}
-
 /// The default `memory_limit` (MB): a third of a 24 GB machine, leaving room for the
 /// importer and a second instance.
 pub const DEFAULT_MEMORY_LIMIT_MB: f64 = 8000.0;
@@ -181,8 +190,16 @@ fn megabytes(mb: f64) -> usize {
     (mb * 1e6) as usize
 }
 
-/// Refuses a step size that is not finite and positive.
-fn check_step(h: f64) -> Result<(), SceneError> {
+/// Refuses a step from a time `t` that is not finite, or of a size `h` that is not finite
+/// and positive.
+fn check_step(t: f64, h: f64) -> Result<(), SceneError> {
+    if !t.is_finite() {
+        return Err(SceneError::InvalidArgument {
+            name: "step start time t",
+            value: t,
+            reason: "must be finite",
+        });
+    }
     if h.is_finite() && h > 0.0 {
         Ok(())
     } else {

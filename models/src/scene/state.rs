@@ -11,7 +11,9 @@ use serde::{Deserialize, Serialize};
 /// The state of one of the scenes.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum SceneState {
+    /// The state of an `abdomen` scene.
     Abdomen(Box<super::abdomen::State>),
+    /// The state of a `cutblock` scene.
     CutBlock(Box<super::cutblock::State>),
 }
 

@@ -8,8 +8,12 @@ use super::SceneError;
 /// FMI causality.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Causality {
+    /// A value the importer sets to configure the model (fixed or tunable).
     Parameter,
+    /// A value the importer sets between steps while the scene runs (a prescribed load or
+    /// displacement).
     Input,
+    /// A value the scene computes and the importer reads.
     Output,
 }
 
@@ -49,14 +53,18 @@ impl Variability {
 /// Value type.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum VariableKind {
+    /// A real number (`f64`), or an array of them.
     Real,
+    /// A string.
     String,
 }
 
 /// Start value of a parameter or input.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Start {
+    /// The start value of a real variable, in its unit.
     Real(f64),
+    /// The start value of a string variable.
     String(String),
     /// Outputs have no start value (FMI: initial = calculated).
     None,
@@ -65,18 +73,28 @@ pub enum Start {
 /// One row of the variable table.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Variable {
+    /// The name the variable is set, read and looked up by.
     pub name: String,
     /// Value reference: the index of this row.
     pub vr: u32,
+    /// Who sets the value: the importer (parameter, input) or the scene (output).
     pub causality: Causality,
+    /// When the value may change: before initialization only, between steps, or in time.
     pub variability: Variability,
+    /// The value type: real or string.
     pub kind: VariableKind,
     /// Number of elements (1 for scalars; FMI 3 exposes larger ones as arrays).
     pub len: usize,
+    /// The unit of the value (`mm`, `N`, `s`, `MPa`, …; `1` for a count or ratio, empty for
+    /// a string).
     pub unit: &'static str,
+    /// The value before anything is set, in the unit; none for an output.
     pub start: Start,
+    /// The smallest value a set takes, in the unit (−∞ for an output, 0 for a string).
     pub min: f64,
+    /// The largest value a set takes, in the unit (+∞ for an output, 0 for a string).
     pub max: f64,
+    /// What the variable is, in words (the `description` of `modelDescription.xml`).
     pub description: String,
 }
 
@@ -233,6 +251,7 @@ impl Values {
         }
     }
 
+    /// The variable table, with each row's value reference numbered.
     pub fn table(&self) -> &[Variable] {
         &self.table
     }

@@ -100,7 +100,7 @@ impl Integrator for CentralDifference {
     }
 
     fn step(&mut self, s: &Structure, load: &mut Load<'_>) -> Result<(), ModelError> {
-        super::vector_state::clear();
+        crate::linalg::vector_state::clear();
         let dt = self.dt;
         let t1 = self.state.t + dt;
         let State { u, v, a, .. } = &mut self.state;

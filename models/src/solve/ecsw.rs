@@ -23,32 +23,9 @@ use rayon::prelude::*;
 
 use super::modal::ModalBasis;
 use super::newton::norm_of;
-use super::structure::{InternalForces, Structure};
+use super::structure::Structure;
+use crate::assembly::{ElementForces, InternalForces};
 use crate::error::ModelError;
-
-/// A body's internal forces element by element (the sum over the elements, scattered to
-/// their dofs, is the structure's f_int).
-pub trait ElementForces: Send + Sync {
-    /// The number of elements.
-    fn count(&self) -> usize;
-
-    /// The dofs (all-dof numbering) of element `e` into `dofs`, replacing its content.
-    fn dofs(&self, e: usize, dofs: &mut Vec<usize>);
-
-    /// Element `e`'s internal force `fe` and, when asked, its tangent `ke` (column-major)
-    /// at the displacement `ue` of its dofs; an inverted element is an error.
-    fn evaluate(
-        &self,
-        e: usize,
-        ue: &[f64],
-        fe: &mut [f64],
-        ke: Option<&mut [f64]>,
-    ) -> Result<(), ModelError>;
-
-    /// Called once per evaluation of the body that takes a tangent (the abdomen notes the
-    /// diaphragm's tension there, for checkpoints).
-    fn tangent_taken(&self) {}
-}
 
 /// A sampled element: its weight and where its dofs' rows lie in the stacked Φ_S.
 #[derive(Debug)]
@@ -80,6 +57,7 @@ pub struct Fit {
     pub states: usize,
     /// Elements sampled (weights > 0) of all.
     pub sampled: usize,
+    /// Elements in all: the candidates the sampling chose from.
     pub elements: usize,
     /// ‖G w − b‖ / ‖b‖ reached.
     pub residual: f64,
@@ -260,9 +238,6 @@ impl HyperReduced {
         let w = &mut *guard;
         gather(self.phi.as_ref(), q, &mut w.u);
         let tangent = k.is_some();
-        if tangent {
-            self.elements.tangent_taken();
-        }
         for s in &self.sampled {
             let rows = s.first..s.first + s.dofs;
             let ke = tangent.then_some(&mut w.ke[..s.dofs * s.dofs]);
@@ -307,23 +282,40 @@ impl HyperReduced {
     pub fn internal_forces(
         self: Arc<Self>,
         pattern: &SymbolicSparseColMat<usize>,
-    ) -> Arc<InternalForces> {
+    ) -> Arc<dyn InternalForces> {
         let r = self.dim();
-        let (col_ptr, row_idx) = (pattern.col_ptr().to_vec(), pattern.row_idx().to_vec());
-        let dense = Mutex::new(vec![0.0; r * r]);
-        Arc::new(move |q, f, k| {
-            let Some(k) = k else {
-                return self.evaluate(q, f, None);
-            };
-            let mut kr = dense.lock().unwrap_or_else(|p| p.into_inner());
-            self.evaluate(q, f, Some(&mut kr))?;
-            for j in 0..r {
-                for p in col_ptr[j]..col_ptr[j + 1] {
-                    k[p] = kr[row_idx[p] + r * j];
-                }
-            }
-            Ok(())
+        Arc::new(OnPattern {
+            col_ptr: pattern.col_ptr().to_vec(),
+            row_idx: pattern.row_idx().to_vec(),
+            dense: Mutex::new(vec![0.0; r * r]),
+            hyper: self,
         })
+    }
+}
+
+/// The hyper-reduced forces with their tangent on a sparse pattern of the r × r matrix.
+struct OnPattern {
+    hyper: Arc<HyperReduced>,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// The dense tangent the pattern's entries are read from.
+    dense: Mutex<Vec<f64>>,
+}
+
+impl InternalForces for OnPattern {
+    fn internal(&self, q: &[f64], f: &mut [f64], k: Option<&mut [f64]>) -> Result<(), ModelError> {
+        let Some(k) = k else {
+            return self.hyper.evaluate(q, f, None);
+        };
+        let r = self.hyper.dim();
+        let mut kr = self.dense.lock().unwrap_or_else(|p| p.into_inner());
+        self.hyper.evaluate(q, f, Some(&mut kr))?;
+        for j in 0..r {
+            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
+                k[p] = kr[self.row_idx[p] + r * j];
+            }
+        }
+        Ok(())
     }
 }
 
@@ -441,8 +433,8 @@ pub fn nnls(g: MatRef<'_, f64>, b: &[f64], tolerance: f64) -> Vec<f64> {
 }
 
 /// The normal equations' data of min ‖G w − b‖: GᵀG, Gᵀb and bᵀb, so that an iteration of
-/// [`nnls`] costs O(n p) for p passive columns instead of two passes over G (which, at
-/// 3,360 × 1,129 on the abdomen, took 1.4 s of 3.8 s of training; measured 2026-11-26).
+/// [`nnls`] costs O(n p) for p passive columns instead of two passes over G (a third of
+/// the training on the abdomen: BENCHMARKS.md, "The hyper-reduced abdomen's training").
 /// GᵀG holds n² values (claimed with G by [`HyperReduced::train`]). The residual from
 /// them, bᵀb − wᵀGᵀb − wᵀGᵀ(b − Gw), cancels: it resolves relative residuals down to about
 /// 10⁻⁷ (√ of round-off); a smaller tolerance runs the NNLS to its optimum, and the caller

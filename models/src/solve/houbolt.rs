@@ -24,12 +24,13 @@
 //! a cantilever released from a static deflection rose 156-fold at Δt = 1000 × the explicit
 //! limit before Houbolt damped it out).
 
+use super::effective::Effective;
 use super::integrator::{
     check_dt, check_finite, consistent_acceleration, initial_state, Checkpoint, Integrator,
     IntegratorKind, Load, State,
 };
 use super::newmark::Newmark;
-use super::structure::{Effective, History, Structure};
+use super::structure::{History, Structure};
 use crate::error::ModelError;
 
 /// Houbolt integrator. See the module documentation.
@@ -142,7 +143,7 @@ impl Integrator for Houbolt {
     }
 
     fn step(&mut self, s: &Structure, load: &mut Load<'_>) -> Result<(), ModelError> {
-        super::vector_state::clear();
+        crate::linalg::vector_state::clear();
         if self.start_steps > 0 {
             return self.starter_step(s, load);
         }

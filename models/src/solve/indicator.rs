@@ -16,10 +16,10 @@
 //! reduced-order models: the residual of the full equations at the expanded state, as in
 //! Farhat, Avery, Chapman & Cortial, IJNME 98 (2014) §6, made dimensionless by K₀).
 
-use super::cholesky::Cholesky;
-use super::product::dot;
 use super::structure::Structure;
 use crate::error::ModelError;
+use crate::linalg::cholesky::Cholesky;
+use crate::linalg::product::dot;
 
 /// K₀ of a structure factorized, and the work vectors of [`Indicator::estimate`].
 #[derive(Debug)]
@@ -33,8 +33,11 @@ pub struct Indicator {
 /// A state of the full structure on its free dofs: displacement, velocity, acceleration.
 #[derive(Debug, Clone, Copy)]
 pub struct Motion<'a> {
+    /// Displacement (mm).
     pub u: &'a [f64],
+    /// Velocity (mm/s).
     pub v: &'a [f64],
+    /// Acceleration (mm/s²).
     pub a: &'a [f64],
 }
 

@@ -18,9 +18,13 @@ pub type Load<'a> = dyn FnMut(f64, &mut [f64]) + 'a;
 /// Displacement, velocity and acceleration on the free dofs at time `t`.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct State {
+    /// Time (s).
     pub t: f64,
+    /// Displacement (mm); in a reduced model, its coordinates q.
     pub u: Vec<f64>,
+    /// Velocity (mm/s), likewise.
     pub v: Vec<f64>,
+    /// Acceleration (mm/s²), likewise.
     pub a: Vec<f64>,
     /// Steps taken since `start`.
     pub steps: u64,
@@ -48,13 +52,17 @@ impl State {
 /// then continues bit for bit as the one it was taken from.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Checkpoint {
+    /// The scheme it was taken from.
     pub kind: IntegratorKind,
+    /// The step size the scheme was prepared for (s).
     pub dt: f64,
+    /// The state when it was taken.
     pub state: State,
     /// The scheme's own vectors: Houbolt u_{n−1}, u_{n−2}; central difference v_{n+½}.
     pub history: Vec<Vec<f64>>,
     /// Houbolt: steps left to take with its starter, and the starter's checkpoint then.
     pub start_steps: u8,
+    /// Houbolt: its Newmark starter's checkpoint while `start_steps` > 0.
     pub starter: Option<Box<Checkpoint>>,
     /// RK4: the acceleration is stale (matrices changed since it was computed).
     pub stale: bool,
@@ -76,6 +84,18 @@ impl Checkpoint {
             stale: false,
             tangent_at: None,
         }
+    }
+
+    /// Every vector of the state a later step depends on (the ones [`map`](Self::map)
+    /// carries), u and v first: u, v, a, the scheme's history and its starter's.
+    pub fn vectors(&self) -> Vec<&[f64]> {
+        let s = &self.state;
+        let mut out = vec![&s.u[..], &s.v[..], &s.a[..]];
+        out.extend(self.history.iter().map(|h| &h[..]));
+        if let Some(starter) = &self.starter {
+            out.extend(starter.vectors());
+        }
+        out
     }
 
     /// The checkpoint with every vector of its state and history (and its starter's) mapped
@@ -126,13 +146,18 @@ impl Checkpoint {
 /// The selectable integrators.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum IntegratorKind {
+    /// Houbolt's implicit three-step method, started by Newmark's.
     Houbolt,
+    /// Newmark's implicit average-acceleration method (β = 1/4, γ = 1/2).
     Newmark,
+    /// The explicit central-difference method, with the lumped mass.
     CentralDifference,
+    /// The explicit classical fourth-order Runge–Kutta method, with the lumped mass.
     Rk4,
 }
 
 impl IntegratorKind {
+    /// Every integrator ([`parse`](Self::parse) searches them).
     pub const ALL: [Self; 4] = [
         Self::Houbolt,
         Self::Newmark,
@@ -160,6 +185,13 @@ impl IntegratorKind {
                 value: name.to_string(),
                 choices: "houbolt, newmark, central_difference or rk4",
             })
+    }
+
+    /// Whether it steps the finite-strain equation of motion (Newton within each step):
+    /// the implicit ones; the explicit ones need the linear one
+    /// ([`ModelError::LinearOnly`]).
+    pub fn steps_finite_strain(self) -> bool {
+        matches!(self, Self::Houbolt | Self::Newmark)
     }
 
     /// A new, unprepared integrator of this kind.

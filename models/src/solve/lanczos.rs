@@ -15,10 +15,10 @@ use faer::sparse::SparseColMatRef;
 use faer::{Accum, Mat, MatRef, Par};
 use nalgebra::{DMatrix, SymmetricEigen};
 
-use super::cholesky::Cholesky;
 use crate::assembly::mul_add;
 use crate::budget;
 use crate::error::ModelError;
+use crate::linalg::cholesky::Cholesky;
 
 /// Relative residual β_k |s_k| / θ below which a Ritz pair counts as converged. The Ritz
 /// value's own error is of the order of the residual squared over the gap to its neighbour.

@@ -32,6 +32,7 @@ use super::lanczos::{self, m_norm};
 use super::structure::Structure;
 use crate::assembly::mul_add;
 use crate::error::ModelError;
+use crate::linalg::cholesky::Cholesky;
 
 /// A static-correction vector is kept only if this share of the static response (M-norm)
 /// lies outside the span of the modes; below it the modes already hold it.
@@ -67,29 +68,33 @@ pub struct ModalBasis {
 
 impl ModalBasis {
     /// A basis of `count` vectors (eigenmodes: `count` modes plus the correction) for loads
-    /// of spatial pattern `load` (free dofs).
+    /// of spatial pattern `load` (free dofs), and for a `carried` state if given.
     pub fn new(
         s: &Structure,
         reduction: Reduction,
         count: usize,
         load: &[f64],
+        carried: Option<&Carried<'_>>,
     ) -> Result<Self, ModelError> {
         s.require_linear("a modal reduction")?;
         let clock = Instant::now();
         let mut chol = s.analyze()?;
         chol.factorize(s.stiffness())?;
-        let vectors = match reduction {
+        let mut vectors = match reduction {
             Reduction::Ritz => lanczos::krylov(s.mass(), &mut chol, load, count)?,
             Reduction::Eigenmodes | Reduction::Truncated => {
                 let mut modes = lanczos::lowest(s.stiffness(), s.mass(), &mut chol, count)?.vectors;
                 if reduction == Reduction::Eigenmodes {
                     let mut u = load.to_vec();
                     chol.solve_in_place(&mut u);
-                    append_correction(s.mass(), &mut modes, u);
+                    append_orthogonal(s.mass(), &mut modes, u);
                 }
                 modes
             }
         };
+        if let Some(carried) = carried {
+            carry(s, &mut chol, carried, count, &mut vectors)?;
+        }
         let (vectors, values) = ritz_diagonalized(s.stiffness(), vectors);
         Ok(Self {
             vectors,
@@ -171,9 +176,46 @@ impl ModalBasis {
     }
 }
 
-/// Appends the static response `u` to the M-orthonormal columns of `basis`, M-orthogonalized
-/// against them (Gram–Schmidt twice), unless the columns already hold it.
-fn append_correction(m: SparseColMatRef<'_, usize, f64>, basis: &mut Mat<f64>, mut u: Vec<f64>) {
+/// A state a basis is built to carry: a reduced model's, when its matrices change mid-run.
+pub struct Carried<'a> {
+    /// Displacement and velocity (free dofs): held, with the Krylov sequences K⁻¹Mw,
+    /// (K⁻¹M)²w, … of each (`count` vectors long), in which the free vibration from them
+    /// under the new matrices lies. Without these, a basis for the load alone misses that
+    /// vibration (the abdomen's floor stiffened fourfold mid-press: 15 % of the floor
+    /// stress, `abdomen_modal` tests).
+    pub vibrating: [&'a [f64]; 2],
+    /// The state's other vectors (acceleration, the scheme's history): held exactly.
+    pub others: Vec<&'a [f64]>,
+}
+
+/// Appends what `carried` needs ([`Carried`]) to the M-orthonormal columns of `basis`.
+fn carry(
+    s: &Structure,
+    chol: &mut Cholesky,
+    carried: &Carried<'_>,
+    count: usize,
+    basis: &mut Mat<f64>,
+) -> Result<(), ModelError> {
+    for w in carried.vibrating {
+        append_orthogonal(s.mass(), basis, w.to_vec());
+        let mut mw = vec![0.0; w.len()];
+        mul_add(s.mass(), w, 1.0, &mut mw);
+        if mw.iter().any(|&x| x != 0.0) {
+            let sequence = lanczos::krylov(s.mass(), chol, &mw, count)?;
+            for j in 0..sequence.ncols() {
+                append_orthogonal(s.mass(), basis, sequence.col(j).iter().copied().collect());
+            }
+        }
+    }
+    for w in &carried.others {
+        append_orthogonal(s.mass(), basis, w.to_vec());
+    }
+    Ok(())
+}
+
+/// Appends `u` (the static correction, a state) to the M-orthonormal columns of `basis`,
+/// M-orthogonalized against them (Gram–Schmidt twice), unless the columns already hold it.
+fn append_orthogonal(m: SparseColMatRef<'_, usize, f64>, basis: &mut Mat<f64>, mut u: Vec<f64>) {
     let (n, j) = (basis.nrows(), basis.ncols());
     let mut mu = vec![0.0; n];
     let whole = m_norm(m, &u, &mut mu);

@@ -5,11 +5,12 @@
 //! (K + 4/Δt² M + 2/Δt C) u_{n+1} = f_{n+1} + M (4/Δt² u_n + 4/Δt u̇_n + ü_n) + C (2/Δt u_n + u̇_n),
 //! ü_{n+1} = 4/Δt² (u_{n+1} − u_n) − 4/Δt u̇_n − ü_n,  u̇_{n+1} = u̇_n + Δt/2 (ü_n + ü_{n+1}).
 
+use super::effective::Effective;
 use super::integrator::{
     check_dt, check_finite, consistent_acceleration, initial_state, Checkpoint, Integrator,
     IntegratorKind, Load, State,
 };
-use super::structure::{Effective, History, Structure};
+use super::structure::{History, Structure};
 use crate::error::ModelError;
 
 /// Newmark average-acceleration integrator. See the module documentation.
@@ -73,7 +74,7 @@ impl Integrator for Newmark {
     }
 
     fn step(&mut self, s: &Structure, load: &mut Load<'_>) -> Result<(), ModelError> {
-        super::vector_state::clear();
+        crate::linalg::vector_state::clear();
         let dt = self.dt;
         let t1 = self.state.t + dt;
         load(t1, &mut self.rhs);

@@ -5,10 +5,9 @@
 //! eigenpairs (λ_i, v_i), descending, and φ_i = S v_i / √λ_i are K-orthonormal. The fewest r
 //! vectors are kept for which the snapshots' part outside their span is at most `tolerance`
 //! of the whole in the energy norm: Σ_{i>r} λ_i ≤ tolerance² · Σ λ_i. The energy norm
-//! weighs strain, which the stresses are read from: on the abdomen, truncated in the M-norm
-//! to 1e-5 (47 vectors) a 5 Hz press of the narrow pelvis came out 2.4 % off in the floor's
-//! peak stress, in the energy norm to 1e-3 (36 vectors) 0.1 % (one run each, 2026-11-26,
-//! at 0.8 N/mm). The basis is then rotated by the Rayleigh–Ritz problem of (Φᵀ K Φ, Φᵀ M Φ):
+//! weighs strain, which the stresses are read from: on the abdomen it gave a smaller basis
+//! a far smaller error in the floor's stress than the M-norm (BENCHMARKS.md, "The
+//! hyper-reduced abdomen's training"). The basis is then rotated by the Rayleigh–Ritz problem of (Φᵀ K Φ, Φᵀ M Φ):
 //! M-orthonormal to round-off and K-orthogonal, like the modal bases ([`super::modal`]).
 
 use std::time::Instant;

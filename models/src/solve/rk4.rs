@@ -73,7 +73,7 @@ impl Integrator for Rk4 {
     }
 
     fn step(&mut self, s: &Structure, load: &mut Load<'_>) -> Result<(), ModelError> {
-        super::vector_state::clear();
+        crate::linalg::vector_state::clear();
         let (dt, t0) = (self.dt, self.state.t);
         if self.stale_acceleration {
             load(t0, &mut self.f);

@@ -5,9 +5,9 @@
 
 use nalgebra::{DMatrix, SymmetricEigen};
 
-use super::product::dot;
 use super::structure::Structure;
 use crate::assembly::mul_add;
+use crate::linalg::product::dot;
 
 /// Lanczos steps (fewer if the Krylov space is exhausted first).
 const STEPS: usize = 120;

@@ -4,9 +4,9 @@
 
 use faer::sparse::SparseColMatRef;
 
-use super::cholesky::{Cholesky, Factorization};
 use crate::assembly::{mul_add, Assembler, Dirichlet};
 use crate::error::ModelError;
+use crate::linalg::cholesky::{Cholesky, Factorization};
 
 /// A static solver for one mesh and one set of constrained dofs.
 #[derive(Debug)]

@@ -4,24 +4,25 @@
 //!
 //! At finite strain ([`Structure::with_internal_forces`]) the stiffness term is the internal
 //! force f_int(u) with its tangent K_T(u); K is then the tangent at u = 0. The implicit
-//! schemes solve each step by Newton's method ([`Effective::solve`]); the explicit schemes
-//! and the modal reduction refuse such a structure.
+//! schemes solve each step by Newton's method (`effective`); the explicit schemes and the
+//! modal reduction refuse such a structure.
 
 use std::sync::Arc;
 
 use faer::sparse::SparseColMatRef;
 use faer::MatRef;
 
-use super::cholesky::{Cholesky, Factorization};
-use super::newton::{max_abs, norm_of};
-use super::product::SymmetricProduct;
-use crate::assembly::{Assembler, Dirichlet};
+use crate::assembly::{Assembler, Dirichlet, InternalForces};
 use crate::error::{non_negative, ModelError};
+use crate::linalg::cholesky::{Cholesky, Factorization};
+use crate::linalg::product::SymmetricProduct;
 
 /// Rayleigh damping C = α M + β K (α in 1/s, β in s).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Damping {
+    /// The mass-proportional coefficient α (1/s).
     pub alpha: f64,
+    /// The stiffness-proportional coefficient β (s).
     pub beta: f64,
 }
 
@@ -38,12 +39,6 @@ impl Damping {
         Ok(())
     }
 }
-
-/// The internal forces of a finite-strain structure: `forces(u, f, k)` writes f_int(u) (u and
-/// f on all dofs, the constrained ones of u zero) into `f` and, when given, the tangent values
-/// on the full pattern into `k`; an inverted element is an error.
-pub type InternalForces =
-    dyn Fn(&[f64], &mut [f64], Option<&mut [f64]>) -> Result<(), ModelError> + Send + Sync;
 
 /// M, C, K on the free dofs, plus the lumped mass.
 #[derive(Clone)]
@@ -64,7 +59,7 @@ pub struct Structure {
     /// The products with K, M and C (all symmetric, on the reduced pattern).
     product: SymmetricProduct,
     /// The internal forces of a finite-strain structure.
-    internal: Option<Arc<InternalForces>>,
+    internal: Option<Arc<dyn InternalForces>>,
     /// Newton's iterations stop at a residual of this share of its scale.
     newton_tolerance: f64,
 }
@@ -187,7 +182,7 @@ impl Structure {
 
     /// Makes the structure finite-strain: the stiffness term becomes `forces` (K stays the
     /// tangent at u = 0, for the first factorization of a step's Newton iterations).
-    pub fn with_internal_forces(mut self, forces: Arc<InternalForces>) -> Self {
+    pub fn with_internal_forces(mut self, forces: Arc<dyn InternalForces>) -> Self {
         self.set_internal_forces(forces);
         self
     }
@@ -202,7 +197,7 @@ impl Structure {
 
     /// Replaces the internal forces of a finite-strain structure (after a parameter change;
     /// [`set_stiffness`](Self::set_stiffness) gives the matching tangent at u = 0).
-    pub fn set_internal_forces(&mut self, forces: Arc<InternalForces>) {
+    pub fn set_internal_forces(&mut self, forces: Arc<dyn InternalForces>) {
         self.internal = Some(forces);
     }
 
@@ -262,21 +257,46 @@ impl Structure {
     pub fn n(&self) -> usize {
         self.bc.n_free()
     }
+    /// The split of the dofs into free and constrained ones.
     pub fn dirichlet(&self) -> &Dirichlet {
         &self.bc
     }
+    /// The stiffness K on the free dofs (at finite strain, the tangent at u = 0).
     pub fn stiffness(&self) -> SparseColMatRef<'_, usize, f64> {
         self.bc.matrix(&self.k)
     }
+    /// The mass matrix M on the free dofs.
     pub fn mass(&self) -> SparseColMatRef<'_, usize, f64> {
         self.bc.matrix(&self.m)
     }
+    /// The damping matrix C on the free dofs.
     pub fn damping_matrix(&self) -> SparseColMatRef<'_, usize, f64> {
         self.bc.matrix(&self.c)
     }
     /// Lumped (diagonal) mass per equation.
     pub fn lumped_mass(&self) -> &[f64] {
         &self.lumped
+    }
+
+    /// The internal forces of a finite-strain structure.
+    pub fn internal_forces(&self) -> Option<&dyn InternalForces> {
+        self.internal.as_deref()
+    }
+
+    /// The residual tolerance of a step's Newton iterations.
+    pub fn newton_tolerance(&self) -> f64 {
+        self.newton_tolerance
+    }
+
+    /// The values of M and of C on the reduced pattern.
+    pub fn mass_and_damping_values(&self) -> (&[f64], &[f64]) {
+        (&self.m, &self.c)
+    }
+
+    /// out ← out + c_m M x + c_c C x (no allocation).
+    pub fn add_mass_and_damping(&self, x: &[f64], c_m: f64, c_c: f64, out: &mut [f64]) {
+        self.product.mul_add(&self.m, x, c_m, out);
+        self.product.mul_add(&self.c, x, c_c, out);
     }
 
     /// Values of the effective matrix c_m M + c_c C + K on the reduced pattern.
@@ -330,7 +350,7 @@ impl Structure {
         };
         self.bc.expand(u, u_full);
         f_full.fill(0.0);
-        forces(u_full, f_full, None)?;
+        forces.internal(u_full, f_full, None)?;
         self.bc.reduce(f_full, out);
         for (o, f) in out.iter_mut().zip(f) {
             *o = f - *o;
@@ -384,8 +404,11 @@ impl Structure {
 /// three history vectors h_k (Houbolt: u_n, u_{n−1}, u_{n−2}; Newmark: u_n, u̇_n, ü_n).
 #[derive(Debug, Clone, Copy)]
 pub struct History<'a> {
+    /// The three history vectors h_k.
     pub vectors: [&'a [f64]; 3],
+    /// The coefficients m_k of the mass term.
     pub mass: [f64; 3],
+    /// The coefficients c_k of the damping term.
     pub damping: [f64; 3],
 }
 
@@ -419,403 +442,10 @@ impl Structure {
     }
 }
 
-/// Newton iterations a finite-strain step may take. Most steps take 2–7; the steps in
-/// which the abdomen's membranes go slack at the end of a press took up to 93 on the mixed
-/// element (measured before 2026-11-27, with the membranes' tension-field tangent: default
-/// scene, ν = 0.4999, 10 ms steps).
-const MAX_NEWTON_ITERATIONS: usize = 100;
-/// A step has converged when ‖R‖ ≤ this fraction of the step's force scale (the largest
-/// norm of the terms that balance: the right-hand side, the internal and the inertia and
-/// damping forces). The assembled internal forces cancel element forces many times larger,
-/// so round-off leaves ‖R‖ near 10⁻⁹ of that scale (measured on a tri6 cantilever).
+/// A step's Newton iterations converge at a residual of this share of its force scale
+/// (the largest norm of the terms that balance: the right-hand side, the internal and the
+/// inertia and damping forces), unless the structure sets its own
+/// ([`Structure::with_newton_tolerance`]). The assembled internal forces cancel element
+/// forces many times larger, so round-off leaves ‖R‖ near 10⁻⁹ of that scale (measured on
+/// a tri6 cantilever).
 pub const NEWTON_TOLERANCE: f64 = 1e-8;
-/// A step has also converged when Newton's correction is below this fraction of the
-/// displacement (‖Δu‖∞ ≤ 10⁻¹⁰ max(‖u‖∞, [`DISPLACEMENT_FLOOR`])).
-const ROUND_OFF_CORRECTION: f64 = 1e-10;
-/// Displacements (mm) below which the correction is measured against this instead: at
-/// strains near zero the finite-strain stress P(I + ∇u) loses the digits of ∇u it shares
-/// with the identity (10⁻¹⁶/|∇u| of itself), so a load that starts from zero (a press
-/// rising as 1 − cos) gives corrections no iteration can make relatively small; 10⁻¹³ mm is
-/// far below anything an output resolves.
-const DISPLACEMENT_FLOOR: f64 = 1e-3;
-/// A fresh Newton correction below this fraction of the displacement that gives no descent,
-/// or that (unshifted, taken in full) does not halve the residual, is round-off (stiff
-/// membranes on soft contents, a contrast of 10⁶, reach about 10⁻⁹).
-const STALLED_CORRECTION: f64 = 1e-8;
-/// Shifts towards the mass tried when a tangent is not positive definite
-/// ([`Effective::factorize_tangent`]).
-const SHIFTS: usize = 12;
-/// Times a Newton correction is halved when it takes an element past inversion.
-const BACKTRACKS: usize = 10;
-/// A fresh tangent's correction that does not reduce a residual below this fraction of the
-/// force scale has met the round-off of the stresses (the neo-Hookean stress at strains of
-/// 10⁻⁷ carries a round-off of 10⁻⁹ of itself).
-const STALL: f64 = 1e-6;
-/// The factorization is kept while every iteration reduces ‖R‖ at least by this factor; a
-/// slower iteration refactorizes the tangent at the current iterate (modified Newton).
-const KEEP_FACTOR_CONTRACTION: f64 = 0.25;
-
-/// The factorized effective matrix c_m M + c_c C + K of an implicit scheme, and for a
-/// finite-strain structure the Newton iteration of a step. The symbolic analysis is done on
-/// first use and kept; later calls refactorize numerically only.
-#[derive(Debug, Default)]
-pub(crate) struct Effective {
-    chol: Option<Cholesky>,
-    values: Vec<f64>,
-    coefficients: (f64, f64),
-    newton: NewtonWork,
-    /// Finite strain: the displacement at which the kept tangent was factorized, when it is
-    /// not the prepared matrix (a checkpoint refactorizes there to continue bit for bit).
-    tangent_at: Vec<f64>,
-    has_tangent: bool,
-    /// The mass coefficient added to the kept tangent to make it positive definite (0
-    /// unless the tangent at `tangent_at` was not).
-    shift: f64,
-}
-
-/// The work vectors of the Newton iterations (sized when the matrix is first factorized for
-/// a finite-strain structure; nothing is allocated per step).
-#[derive(Debug, Default)]
-struct NewtonWork {
-    target: Vec<f64>,
-    residual: Vec<f64>,
-    /// (c_m M + c_c C) u.
-    inertia: Vec<f64>,
-    u_full: Vec<f64>,
-    f_full: Vec<f64>,
-    k_full: Vec<f64>,
-    k_reduced: Vec<f64>,
-    /// The last Newton correction and the line search's trial state.
-    correction: Vec<f64>,
-    trial: Vec<f64>,
-    /// Iterations and tangent factorizations of the last step (0 for a linear structure).
-    iterations: usize,
-    factorizations: usize,
-}
-
-impl Effective {
-    /// Forms and factorizes c_m M + c_c C + K.
-    pub(crate) fn factorize(
-        &mut self,
-        s: &Structure,
-        c_m: f64,
-        c_c: f64,
-    ) -> Result<(), ModelError> {
-        let chol = match &mut self.chol {
-            Some(c) if c.n() == s.n() => c,
-            slot => {
-                self.values = vec![0.0; s.dirichlet().nnz()];
-                slot.insert(s.analyze()?)
-            }
-        };
-        if s.is_nonlinear() && self.newton.target.len() != s.n() {
-            let bc = s.dirichlet();
-            self.newton = NewtonWork {
-                target: vec![0.0; s.n()],
-                residual: vec![0.0; s.n()],
-                inertia: vec![0.0; s.n()],
-                u_full: vec![0.0; bc.n_dofs()],
-                f_full: vec![0.0; bc.n_dofs()],
-                k_full: vec![0.0; bc.full_nnz()],
-                k_reduced: vec![0.0; bc.nnz()],
-                correction: vec![0.0; s.n()],
-                trial: vec![0.0; s.n()],
-                iterations: 0,
-                factorizations: 0,
-            };
-        }
-        self.coefficients = (c_m, c_c);
-        self.has_tangent = false;
-        self.tangent_at.resize(s.n(), 0.0);
-        s.effective(c_m, c_c, &mut self.values);
-        chol.factorize(s.dirichlet().matrix(&self.values))
-    }
-
-    /// Where the kept factor's tangent was taken and its shift, if it is not the prepared
-    /// matrix.
-    pub(crate) fn kept_tangent(&self) -> Option<(Vec<f64>, f64)> {
-        self.has_tangent
-            .then(|| (self.tangent_at.clone(), self.shift))
-    }
-
-    /// Refactorizes (c_m + `shift`) M + c_c C + K_T(x) with the prepared coefficients, as a
-    /// step's Newton iteration at `x` did (to resume from a checkpoint).
-    pub(crate) fn refactorize_at(
-        &mut self,
-        s: &Structure,
-        x: &[f64],
-        shift: f64,
-    ) -> Result<(), ModelError> {
-        let (Some(forces), Some(chol)) = (&s.internal, self.chol.as_mut()) else {
-            return Err(ModelError::LinearAlgebra(
-                "a kept tangent needs a prepared finite-strain structure".into(),
-            ));
-        };
-        let w = &mut self.newton;
-        let (c_m, c_c) = self.coefficients;
-        w.residual(s, forces.as_ref(), self.coefficients, x)?;
-        w.tangent(s, forces.as_ref())?;
-        w.combine(s, c_m + shift, c_c, &mut self.values);
-        chol.factorize(s.dirichlet().matrix(&self.values))?;
-        self.tangent_at.copy_from_slice(x);
-        self.has_tangent = true;
-        self.shift = shift;
-        Ok(())
-    }
-
-    /// Factorizes (c_m + σ) M + c_c C + K_T at `x` (the last residual's state): σ = 0, or
-    /// where that is not positive definite (the contents near an instability, an iterate
-    /// beyond the solution, or slack membranes, whose exact tangent is negative across
-    /// them) the smallest of 10⁻⁴, 10⁻³, … times trace K_T / trace M that
-    /// makes it so — a shift towards the mass that keeps Newton's corrections descent
-    /// directions (pseudo-transient continuation).
-    fn factorize_tangent(
-        &mut self,
-        s: &Structure,
-        forces: &InternalForces,
-        x: &[f64],
-    ) -> Result<(), ModelError> {
-        let chol = self.chol.as_mut().expect("prepared");
-        let w = &mut self.newton;
-        let (c_m, c_c) = self.coefficients;
-        w.tangent(s, forces)?;
-        w.factorizations += 1;
-        let ratio = diagonal_sum(s, &w.k_reduced).abs() / diagonal_sum(s, &s.m);
-        let mut shift = 0.0;
-        let mut attempt = 0;
-        loop {
-            w.combine(s, c_m + shift, c_c, &mut self.values);
-            match chol.factorize(s.dirichlet().matrix(&self.values)) {
-                Err(ModelError::Singular { .. }) if attempt < SHIFTS => {
-                    shift = ratio * 10f64.powi(attempt as i32 - 4);
-                    attempt += 1;
-                }
-                result => {
-                    result?;
-                    self.tangent_at.copy_from_slice(x);
-                    self.has_tangent = true;
-                    self.shift = shift;
-                    return Ok(());
-                }
-            }
-        }
-    }
-
-    /// Solves a step: on entry `x` holds the right-hand side (load and history terms), on
-    /// return the new displacement. Linear: one solve with the factor. Finite strain:
-    /// Newton's method on R(u) = c_m M u + c_c C u + f_int(u) − rhs from `guess` (the last
-    /// displacement). Each iteration solves with the kept factorization while the previous
-    /// one reduced ‖R‖ by [`KEEP_FACTOR_CONTRACTION`], else refactorizes
-    /// c_m M + c_c C + K_T(u) (shifted towards the mass where it is not positive definite,
-    /// [`Self::factorize_tangent`]), and steps along the correction by the line search of
-    /// [`NewtonWork::line_search`]; a kept factorization whose full step is too short is
-    /// replaced by a fresh tangent at once. Allocates nothing (but the error).
-    pub(crate) fn solve(
-        &mut self,
-        s: &Structure,
-        x: &mut [f64],
-        guess: &[f64],
-    ) -> Result<(), ModelError> {
-        let Some(forces) = &s.internal else {
-            self.chol
-                .as_mut()
-                .expect("an integrator is prepared before it steps")
-                .solve_in_place(x);
-            return Ok(());
-        };
-        let forces = forces.as_ref();
-        let coefficients = self.coefficients;
-        self.newton.target.copy_from_slice(x);
-        self.newton.factorizations = 0;
-        x.copy_from_slice(guess);
-        let (mut r, mut scale) = self.newton.residual(s, forces, coefficients, x)?;
-        let mut previous = f64::INFINITY;
-        for iteration in 1..=MAX_NEWTON_ITERATIONS {
-            if r <= s.newton_tolerance * scale || r == 0.0 {
-                self.newton.iterations = iteration - 1;
-                return Ok(());
-            }
-            let mut fresh = r > KEEP_FACTOR_CONTRACTION * previous;
-            let (alpha, next, next_scale) = loop {
-                if fresh {
-                    self.factorize_tangent(s, forces, x)?;
-                }
-                let w = &mut self.newton;
-                w.correction.copy_from_slice(&w.residual);
-                self.chol
-                    .as_mut()
-                    .expect("prepared")
-                    .solve_in_place(&mut w.correction);
-                match w.line_search(s, forces, coefficients, x, fresh)? {
-                    Some(found) => break found,
-                    // A kept factorization without descent: a fresh tangent at x.
-                    None if !fresh => {
-                        w.residual(s, forces, coefficients, x)?;
-                        fresh = true;
-                    }
-                    // Round-off: a fresh correction finds no descent from a residual the
-                    // cancelling element forces leave, or is itself within round-off of u.
-                    None if r <= STALL * scale
-                        || max_abs(&w.correction)
-                            <= STALLED_CORRECTION * max_abs(x).max(DISPLACEMENT_FLOOR) =>
-                    {
-                        w.iterations = iteration;
-                        return Ok(());
-                    }
-                    None => {
-                        return Err(ModelError::NotConverged {
-                            reached: 0.0,
-                            reason: format!(
-                                "Newton's method found no descent from a residual of {r:e} \
-                                 in iteration {iteration} of one time step"
-                            ),
-                        })
-                    }
-                }
-            };
-            let w = &mut self.newton;
-            x.copy_from_slice(&w.trial);
-            let size = alpha * max_abs(&w.correction);
-            let magnitude = max_abs(x).max(DISPLACEMENT_FLOOR);
-            // Converged: a correction within round-off of u; or the full step along an
-            // unshifted fresh tangent's correction (Newton's estimate of the error in u)
-            // below STALLED_CORRECTION of u that does not halve the residual — the residual
-            // is the stresses' round-off (stiff lines at strains of 10⁻⁹ leave corrections
-            // of 10⁻¹² mm that wander without end; measured 2026-11-27: 50–99 iterations
-            // per step on a 10⁶ stiffness contrast). Not bounded by the residual: its scale
-            // there is itself of the round-off's size.
-            let stalled = fresh
-                && self.shift == 0.0
-                && alpha == 1.0
-                && next > 0.5 * r
-                && size <= STALLED_CORRECTION * magnitude;
-            (previous, r, scale) = (r, next, next_scale);
-            if size <= ROUND_OFF_CORRECTION * magnitude || stalled {
-                w.iterations = iteration;
-                return Ok(());
-            }
-        }
-        Err(ModelError::NotConverged {
-            reached: 0.0,
-            reason: format!(
-                "Newton's method left a residual of {r:e} after \
-                 {MAX_NEWTON_ITERATIONS} iterations of one time step"
-            ),
-        })
-    }
-
-    /// Newton iterations of the last step (0 for a linear structure).
-    pub(crate) fn iterations(&self) -> usize {
-        self.newton.iterations
-    }
-
-    /// Tangent factorizations of the last step (0 for a linear structure).
-    pub(crate) fn factorizations(&self) -> usize {
-        self.newton.factorizations
-    }
-}
-
-/// The sum of the diagonal of a matrix on the structure's reduced pattern.
-fn diagonal_sum(s: &Structure, values: &[f64]) -> f64 {
-    let p = s.dirichlet().symbolic();
-    let a = faer::sparse::SparseColMatRef::new(p.as_ref(), values);
-    (0..p.ncols())
-        .map(|j| super::cholesky::diagonal(a, j))
-        .sum()
-}
-
-impl NewtonWork {
-    /// The line search along the correction d (in `correction`) from `x`, whose residual is
-    /// in `residual`: the step x − α d is the minimizer of the step's energy along the line
-    /// when its slope there vanishes, η(α) = d·R(x − α d) / d·R(x) = 0 (η(0) = 1 for any
-    /// positive definite matrix d came from). α = 1 is taken when |η| ≤ 0.8 (Crisfield,
-    /// Non-linear Finite Element Analysis of Solids and Structures, vol. 1, §9.3), or when
-    /// the energy still falls there after a fresh tangent; an overshoot (η < −0.8) shortens
-    /// the step by the secant α / (1 − η), an inverted element halves it, up to
-    /// [`BACKTRACKS`] times. The trial (in `trial`, its residual in `residual`) is returned
-    /// as (α, ‖R‖, scale); None when a kept factorization's full step is too short
-    /// (η > 0.8: refactorize).
-    fn line_search(
-        &mut self,
-        s: &Structure,
-        forces: &InternalForces,
-        coefficients: (f64, f64),
-        x: &[f64],
-        fresh: bool,
-    ) -> Result<Option<(f64, f64, f64)>, ModelError> {
-        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| a * b).sum::<f64>();
-        let slope = dot(&self.correction, &self.residual);
-        let mut alpha = 1.0;
-        for _ in 0..=BACKTRACKS {
-            for ((t, u), d) in self.trial.iter_mut().zip(x).zip(&self.correction) {
-                *t = u - alpha * d;
-            }
-            let trial = std::mem::take(&mut self.trial);
-            let result = self.residual(s, forces, coefficients, &trial);
-            self.trial = trial;
-            let (r, scale) = match result {
-                Ok(found) => found,
-                Err(ModelError::Inverted { .. }) => {
-                    alpha *= 0.5;
-                    continue;
-                }
-                Err(e) => return Err(e),
-            };
-            let eta = dot(&self.correction, &self.residual) / slope;
-            if eta.abs() <= 0.8 || (eta > 0.0 && (fresh || alpha < 1.0)) {
-                return Ok(Some((alpha, r, scale)));
-            }
-            if eta > 0.0 {
-                return Ok(None);
-            }
-            alpha *= (1.0 / (1.0 - eta)).max(0.1);
-        }
-        Ok(None)
-    }
-
-    /// R(u) = (c_m M + c_c C) u + f_int(u) − rhs into `residual`; returns ‖R‖ and the force
-    /// scale (the largest norm of the terms that balance).
-    fn residual(
-        &mut self,
-        s: &Structure,
-        forces: &InternalForces,
-        (c_m, c_c): (f64, f64),
-        x: &[f64],
-    ) -> Result<(f64, f64), ModelError> {
-        let bc = s.dirichlet();
-        bc.expand(x, &mut self.u_full);
-        forces(&self.u_full, &mut self.f_full, None)?;
-        bc.reduce(&self.f_full, &mut self.residual);
-        self.inertia.fill(0.0);
-        s.product.mul_add(&s.m, x, c_m, &mut self.inertia);
-        s.product.mul_add(&s.c, x, c_c, &mut self.inertia);
-        let scale = [&self.target, &self.residual, &self.inertia]
-            .map(|v| norm_of(v))
-            .into_iter()
-            .fold(0.0, f64::max);
-        for ((r, i), t) in self
-            .residual
-            .iter_mut()
-            .zip(&self.inertia)
-            .zip(&self.target)
-        {
-            *r += i - t;
-        }
-        Ok((norm_of(&self.residual), scale))
-    }
-
-    /// K_T(u) at the last residual's u, reduced, into `k_reduced`.
-    fn tangent(&mut self, s: &Structure, forces: &InternalForces) -> Result<(), ModelError> {
-        forces(&self.u_full, &mut self.f_full, Some(&mut self.k_full))?;
-        s.dirichlet()
-            .combine(&[(1.0, &self.k_full)], &mut self.k_reduced);
-        Ok(())
-    }
-
-    /// c_m M + c_c C + K_T (the last [`tangent`](Self::tangent)) into `values`.
-    fn combine(&self, s: &Structure, c_m: f64, c_c: f64, values: &mut [f64]) {
-        for (((v, m), c), k) in values.iter_mut().zip(&s.m).zip(&s.c).zip(&self.k_reduced) {
-            *v = c_m * m + c_c * c + k;
-        }
-    }
-}

@@ -5,34 +5,45 @@
 //! mid-edge nodes on the arcs lie on the arcs (errors integrated with the 6-point rule).
 
 use crate::assembly::{loads, plane, quadratic_plane, Assembler};
-use crate::element::tri6::{self, Formulation};
+use crate::element::mixed::Formulation;
+use crate::element::quadrature::TRI_6;
+use crate::element::recovery;
+use crate::element::tri6;
 use crate::element::{tri3, Elastic};
 use crate::error::ModelError;
+use crate::linalg::Factorization;
 use crate::mesh::{generate, Mesh2d, QuadraticPlaneMesh};
-use crate::solve::{Factorization, Statics};
+use crate::solve::Statics;
 
 /// The problem data: radii a < b (mm), pressure p (MPa), material.
 #[derive(Debug, Clone, Copy)]
 pub struct Lame {
+    /// Inner radius a (mm).
     pub a: f64,
+    /// Outer radius b (mm).
     pub b: f64,
+    /// Internal pressure p (MPa).
     pub p: f64,
+    /// Elastic constants of the cylinder.
     pub material: Elastic,
 }
 
 /// Result of one FE solution.
 #[derive(Debug, Clone, Copy)]
 pub struct LameSolution {
+    /// Number of triangles of the mesh.
     pub triangles: usize,
+    /// Number of free dofs (equations).
     pub dofs: usize,
     /// ‖u_h − u‖_L2 / ‖u‖_L2.
     pub l2_error: f64,
     /// Area-weighted RMS error of the stresses (σxx, σyy, σxy) relative to the RMS of the
     /// exact stress: at the centroid for linear triangles, at the six quadrature points of
-    /// [`tri6::TRI_6`] for quadratic ones.
+    /// [`crate::element::quadrature::TRI_6`] for quadratic ones.
     pub stress_error: f64,
     /// FE radial displacement at (a, 0) and the exact value.
     pub inner_fe: f64,
+    /// The exact radial displacement at r = a (mm).
     pub inner_exact: f64,
 }
 
@@ -153,7 +164,7 @@ impl Lame {
         for (i, tri) in q.triangles().iter().enumerate() {
             let p = q.triangle(i);
             let ue = tri6::Dofs::from_fn(|k, _| u[2 * tri[k / 2] + k % 2]);
-            for &(l, w) in &tri6::TRI_6 {
+            for &(l, w) in &TRI_6 {
                 let n = tri6::shape(l);
                 let interpolate = |v: [f64; 6]| (0..6).map(|k| n[k] * v[k]).sum::<f64>();
                 let x = [0, 1].map(|d| interpolate(p.map(|q| q[d])));
@@ -162,7 +173,7 @@ impl Lame {
                 let exact = self.exact(x);
                 sums[0] += dx * ((uh[0] - exact[0]).powi(2) + (uh[1] - exact[1]).powi(2));
                 sums[1] += dx * (exact[0].powi(2) + exact[1].powi(2));
-                let sh = tri6::stress(formulation, &p, l, &ue, &self.material);
+                let sh = recovery::stress(formulation, &p, l, &ue, &self.material);
                 let se = self.exact_stress(x);
                 sums[2] += dx * (0..3).map(|c| (sh[c] - se[c]).powi(2)).sum::<f64>();
                 sums[3] += dx * se.iter().map(|s| s * s).sum::<f64>();

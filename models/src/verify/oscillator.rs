@@ -7,12 +7,15 @@ use nalgebra::{Complex, Matrix1, Matrix3};
 
 use crate::assembly::{Assembler, Dirichlet};
 use crate::error::ModelError;
-use crate::solve::{Damping, Factorization, IntegratorKind, Structure};
+use crate::linalg::Factorization;
+use crate::solve::{Damping, IntegratorKind, Structure};
 
 /// Period elongation T̄/T − 1 and amplitude decay per cycle 1 − A(t + T̄)/A(t).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Spectral {
+    /// T̄/T − 1: how much longer the numerical period is than the exact one.
     pub period_elongation: f64,
+    /// 1 − A(t + T̄)/A(t): the share of the amplitude lost per cycle.
     pub amplitude_decay: f64,
 }
 

@@ -3,26 +3,34 @@
 //! 6 × 16 × 14 cubes × 5 tetrahedra (seed 002 §3.1), both with soft-tissue properties.
 
 use crate::assembly::plane::{self, Continuum, PlaneProperties, Truss};
-use crate::assembly::{solid, Assembler, Dirichlet};
+use crate::assembly::{tetrahedra, Assembler, Dirichlet};
 use crate::element::Elastic;
 use crate::error::ModelError;
+use crate::linalg::Factorization;
 use crate::mesh::{generate, Mesh2d, Mesh3d};
-use crate::solve::{Damping, Factorization, Structure};
+use crate::solve::{Damping, Structure};
 
 /// A 2D problem: mesh, properties, constrained dofs.
 #[derive(Debug, Clone)]
 pub struct PlaneProblem {
+    /// The mesh: triangles and line elements.
     pub mesh: Mesh2d,
+    /// Properties of the triangle and line regions.
     pub props: PlaneProperties,
+    /// The constrained dofs (held at zero).
     pub fixed: Vec<usize>,
 }
 
 /// Assembled global matrices on the full pattern.
 #[derive(Debug, Clone)]
 pub struct Assembled {
+    /// The pattern and scatter map over all dofs.
     pub asm: Assembler,
+    /// Stiffness values on the full pattern (N/mm; in 2D per mm of depth).
     pub k: Vec<f64>,
+    /// Consistent mass values on the full pattern (t; in 2D per mm of depth).
     pub m: Vec<f64>,
+    /// Lumped mass per dof (t; in 2D per mm of depth).
     pub lumped: Vec<f64>,
 }
 
@@ -82,8 +90,11 @@ pub fn plane(nx: usize, ny: usize) -> Result<PlaneProblem, ModelError> {
 /// A 3D problem: mesh, material, constrained dofs and their prescribed values.
 #[derive(Debug, Clone)]
 pub struct BlockProblem {
+    /// The tetrahedral block.
     pub mesh: Mesh3d,
+    /// Elastic constants and density of the block.
     pub material: Continuum,
+    /// The constrained dofs.
     pub fixed: Vec<usize>,
     /// Full-length vector holding the prescribed displacement at constrained dofs.
     pub prescribed: Vec<f64>,
@@ -92,11 +103,11 @@ pub struct BlockProblem {
 impl BlockProblem {
     /// Pattern, stiffness, consistent and lumped mass.
     pub fn assemble(&self) -> Assembled {
-        let asm = solid::assembler(&self.mesh);
+        let asm = tetrahedra::assembler(&self.mesh);
         let (mut k, mut m) = (asm.zeros(), asm.zeros());
-        solid::stiffness(&self.mesh, &asm, &self.material, &mut k);
-        solid::mass(&self.mesh, &asm, &self.material, &mut m);
-        let lumped = solid::lumped_mass(&self.mesh, &self.material);
+        tetrahedra::stiffness(&self.mesh, &asm, &self.material, &mut k);
+        tetrahedra::mass(&self.mesh, &asm, &self.material, &mut m);
+        let lumped = tetrahedra::lumped_mass(&self.mesh, &self.material);
         Assembled { asm, k, m, lumped }
     }
 }

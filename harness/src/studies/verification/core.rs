@@ -4,9 +4,10 @@ use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 
 use anyhow::Result;
-use models::assembly::{plane, solid};
+use models::assembly::{plane, tetrahedra};
 use models::element::Elastic;
-use models::solve::{Damping, Factorization, IntegratorKind, Ordering, Statics};
+use models::linalg::{Factorization, Ordering};
+use models::solve::{Damping, IntegratorKind, Statics};
 use models::verify::{lame::Lame, oscillator, problems};
 
 /// Prints the three tables.
@@ -170,7 +171,7 @@ fn timings(out: &mut String) -> Result<()> {
         out,
         "stiffness assembly (pattern reused)",
         median(20, || {
-            solid::stiffness(&b.mesh, &ba.asm, &b.material, &mut k)
+            tetrahedra::stiffness(&b.mesh, &ba.asm, &b.material, &mut k)
         }),
     )?;
     let mut statics = Statics::new(
@@ -194,7 +195,7 @@ fn timings(out: &mut String) -> Result<()> {
         out,
         "static solve total (assembly + factorization + solve)",
         median(10, || {
-            solid::stiffness(&b.mesh, &ba.asm, &b.material, &mut k);
+            tetrahedra::stiffness(&b.mesh, &ba.asm, &b.material, &mut k);
             statics.factorize(&k).expect("factorizes");
             statics.solve(ba.asm.matrix(&k), &f, &mut u);
         }),

@@ -54,11 +54,17 @@ pub const SHIPPED: [(&str, &str); 5] = [
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PelvisConfig {
+    /// The configuration's name (`narrow`, …; empty if the file gives none).
     #[serde(default)]
     pub name: String,
+    /// What the configuration describes, in words (empty if the file gives none).
     #[serde(default)]
     pub description: String,
+    /// Explicit control points of the five boundary parts (mm); exactly one of these and
+    /// [`anatomy`](Self::anatomy) is given.
     pub control_points: Option<ControlPoints>,
+    /// Anatomical parameters (mm, degrees) from which the generator makes the control
+    /// points; exactly one of these and [`control_points`](Self::control_points) is given.
     pub anatomy: Option<Anatomy>,
 }
 

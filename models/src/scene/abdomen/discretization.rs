@@ -3,7 +3,7 @@
 //! same edge nodes ([`crate::element::line3`]), in the displacement or the mixed P2/P0
 //! formulation; at small strain, or at finite strain (issue 26: plane-strain total
 //! Lagrangian neo-Hookean cavity in either formulation, the mixed one in the three-field form
-//! of [`tri6::internal_mixed`]; membranes at finite strain, [`crate::element::membrane`];
+//! of [`mixed::internal_mixed`]; membranes at finite strain, [`crate::element::membrane`];
 //! Newton's method within each implicit step).
 //!
 //! The 6-node mesh is derived from the 3-node one: the corners keep their numbers, so node
@@ -21,9 +21,11 @@ use std::sync::Arc;
 
 use super::mesher::Meshed;
 use crate::assembly::plane::{self, PlaneProperties, Truss};
-use crate::assembly::quadratic_plane::{self, scatter, BodyForces, PlaneBody, SharedTension};
+use crate::assembly::quadratic_plane::{self, scatter, PlaneBody, SharedTension};
 use crate::assembly::Assembler;
-use crate::element::tri6::{self, Formulation};
+use crate::element::mixed::Formulation;
+use crate::element::recovery;
+use crate::element::tri6;
 use crate::element::{line2, line3, tri3};
 use crate::element::{Law, Material};
 use crate::error::ModelError;
@@ -34,7 +36,9 @@ use crate::stress::{LineStresses, PlaneStress, TriangleStresses};
 /// The cavity's element.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Element {
+    /// 3-node linear triangles with 2-node membranes (the seed's, `tri3`).
     Tri3,
+    /// 6-node quadratic triangles with 3-node membranes on the same edge nodes (`tri6`).
     Tri6,
 }
 
@@ -46,9 +50,9 @@ impl Element {
     /// faces. 6-node: two nodes per triangle (a corner's half and three mid-edge halves),
     /// about 92 stored entries per triangle (a corner couples with about 19 nodes, a
     /// mid-edge node with 9), and the 12 × 12 scatter map. (The scatter maps are counted at
-    /// 8 bytes per matrix entry; since 2026-11-27 the assembler keeps 16 bytes per node
-    /// pair, 144 instead of 288 bytes for tri3 and 576 instead of 1,152 for tri6: the
-    /// estimate errs towards refusing, kept so that the tested refusals stay where they were.)
+    /// 8 bytes per matrix entry; the assembler keeps 16 bytes per node pair, 144 instead of
+    /// 288 bytes for tri3 and 576 instead of 1,152 for tri6: the estimate errs towards
+    /// refusing, kept so that the tested refusals stay where they were.)
     pub fn bytes_per_triangle(self) -> usize {
         match self {
             Self::Tri3 => 14 * (8 + 8 * 8) + 36 * 8 + 200,
@@ -62,9 +66,7 @@ pub fn element(value: &str) -> Result<Element, SceneError> {
     match value {
         "tri3" => Ok(Element::Tri3),
         "tri6" => Ok(Element::Tri6),
-        other => Err(SceneError::Config(format!(
-            "element `{other}`: use `tri3` or `tri6`"
-        ))),
+        other => Err(ModelError::unknown("element", other, "tri3 or tri6").into()),
     }
 }
 
@@ -73,9 +75,7 @@ pub fn formulation(value: &str) -> Result<Formulation, SceneError> {
     match value {
         "displacement" => Ok(Formulation::Displacement),
         "mixed" => Ok(Formulation::Mixed),
-        other => Err(SceneError::Config(format!(
-            "formulation `{other}`: use `displacement` or `mixed`"
-        ))),
+        other => Err(ModelError::unknown("formulation", other, "displacement or mixed").into()),
     }
 }
 
@@ -84,17 +84,19 @@ pub fn finite(value: &str) -> Result<bool, SceneError> {
     match value {
         "linear" => Ok(false),
         "finite" => Ok(true),
-        other => Err(SceneError::Config(format!(
-            "kinematics `{other}`: use `linear` or `finite`"
-        ))),
+        other => Err(ModelError::unknown("kinematics", other, "linear or finite").into()),
     }
 }
 
 /// The element, formulation and kinematics of a scene, checked together.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Choice {
+    /// The cavity's element (the `element` parameter).
     pub element: Element,
+    /// Displacement or mixed P2/P0 formulation (the `formulation` parameter).
     pub formulation: Formulation,
+    /// Whether the kinematics are finite (total Lagrangian, Newton within each step) rather
+    /// than linear (the `kinematics` parameter).
     pub finite: bool,
 }
 
@@ -132,8 +134,11 @@ impl Choice {
 pub struct Discretization {
     /// The 3-node mesh (the corners of a 6-node one) with its quality figures.
     pub meshed: Meshed,
+    /// The element, formulation and kinematics.
     pub choice: Choice,
     quadratic: Option<Arc<QuadraticPlaneMesh>>,
+    /// The assembler of the system: its sparsity pattern over the dofs of the mesh in use
+    /// (the 6-node one for `tri6`).
     pub asm: Arc<Assembler>,
 }
 
@@ -171,6 +176,8 @@ impl Discretization {
         self.quadratic.as_deref()
     }
 
+    /// The number of dofs: two (x, y) per node of the mesh in use (the 6-node one for
+    /// `tri6`).
     pub fn n_dofs(&self) -> usize {
         self.asm.n_dofs()
     }
@@ -225,7 +232,7 @@ impl Discretization {
         let mesh = self.mesh();
         let mut f = vec![0.0; self.n_dofs()];
         let folded = |e: usize| {
-            move |inv: crate::element::solid::Inverted| {
+            move |inv: crate::element::total_lagrangian::Inverted| {
                 SceneError::Model(ModelError::Inverted {
                     element: e,
                     j: inv.j,
@@ -283,39 +290,22 @@ impl Discretization {
 
     /// The finite-strain body for `props` (None for linear kinematics), the lines of region
     /// `region` carrying the active tension `tension` holds at each evaluation: the internal
-    /// forces of the dynamic structure ([`quadratic_plane::internal_forces`]) and element by
-    /// element of its hyper-reduction.
-    pub fn body_forces(
+    /// forces of a static solve, of the dynamic structure and, element by element, of its
+    /// hyper-reduction.
+    pub fn body(
         &self,
         props: &PlaneProperties,
         region: u16,
         tension: &Arc<SharedTension>,
-    ) -> Option<Arc<BodyForces>> {
+    ) -> Option<PlaneBody> {
         let q = self.quadratic.as_ref().filter(|_| self.choice.finite)?;
-        Some(Arc::new(BodyForces {
+        Some(PlaneBody {
             mesh: q.clone(),
             asm: self.asm.clone(),
             materials: materials(props).into(),
             formulation: self.choice.formulation,
             trusses: props.trusses.clone().into(),
             active: Some((region, tension.clone())),
-        }))
-    }
-
-    /// The finite-strain body for a static Newton solve (None for linear kinematics).
-    pub fn body<'a>(
-        &'a self,
-        materials: &'a [Material],
-        props: &'a PlaneProperties,
-    ) -> Option<PlaneBody<'a>> {
-        let q = self.quadratic.as_deref().filter(|_| self.choice.finite)?;
-        Some(PlaneBody {
-            mesh: q,
-            asm: &self.asm,
-            materials,
-            formulation: self.choice.formulation,
-            trusses: &props.trusses,
-            active: None,
         })
     }
 }
@@ -384,7 +374,7 @@ impl Recovery {
         let ue = tri6::Dofs::from_fn(|k, _| u[dofs[k]]);
         let material = &finite.materials[usize::from(q.triangle_regions()[i])];
         let centroid = [1.0 / 3.0; 3];
-        match tri6::cauchy(finite.formulation, &q.triangle(i), centroid, &ue, material) {
+        match recovery::cauchy(finite.formulation, &q.triangle(i), centroid, &ue, material) {
             Ok(s) => PlaneStress {
                 xx: s[(0, 0)],
                 yy: s[(1, 1)],
@@ -421,8 +411,11 @@ impl Recovery {
 /// mesh for `tri6`.
 #[derive(Debug, Clone, Copy)]
 pub struct FieldView<'a> {
+    /// The 3-node mesh (mm; the corners of a 6-node one).
     pub mesh: &'a Mesh2d,
+    /// The 6-node mesh for `tri6`, `None` for `tri3`.
     pub quadratic: Option<&'a QuadraticPlaneMesh>,
+    /// The displacement of all dofs (mm): x and y of node n at 2n and 2n + 1.
     pub u: &'a [f64],
     pub(super) recovery: &'a Recovery,
 }

@@ -23,10 +23,15 @@ pub const PARTS: [&str; 5] = [
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ControlPoints {
+    /// The spine, posterior, from the top down to the coccyx ([x, y], mm).
     pub spine: Vec<[f64; 2]>,
+    /// The pelvic floor, from the coccyx to the pubic bone ([x, y], mm).
     pub pelvic_floor: Vec<[f64; 2]>,
+    /// The pelvic bone, up to the top of the pubic symphysis ([x, y], mm).
     pub pelvic_bone: Vec<[f64; 2]>,
+    /// The abdominal wall, anterior, up to the lower rib margin ([x, y], mm).
     pub abdominal_wall: Vec<[f64; 2]>,
+    /// The diaphragm, from the rib margin back to the top of the spine ([x, y], mm).
     pub diaphragm: Vec<[f64; 2]>,
 }
 
@@ -47,7 +52,9 @@ impl ControlPoints {
 /// (vertex i → i + 1, wrapping), the part it belongs to.
 #[derive(Debug, Clone)]
 pub struct Boundary {
+    /// The vertices in counter-clockwise order ([x, y], mm); the last joins the first.
     pub vertices: Vec<[f64; 2]>,
+    /// For each segment (vertex i → i + 1, wrapping), the index of its part in [`PARTS`].
     pub segment_part: Vec<usize>,
     /// The vertex of each of the [`LANDMARKS`], in their order.
     pub landmarks: [usize; 3],
@@ -118,11 +125,13 @@ fn dense_curve(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
 /// (1979) 447), and mean outputs such as a mean stress at twice that rate. The uniform
 /// meshes' order near 1 in the mean outputs says λ ≈ ½ here; β = ½ then gives those outputs
 /// order 2, the 6-node element's stress order (measured: 1.96 against 1.40 uniform,
-/// `tests/abdomen.rs`). Full energy order would need β ≥ 1 − λ/p = ¾, where the mesher
+/// `tests/scenes/abdomen.rs`). Full energy order would need β ≥ 1 − λ/p = ¾, where the mesher
 /// makes degenerate triangles at fine targets, so `mesh_grading` stops at ½.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Spacing {
+    /// The spacing along a part away from its ends (mm).
     pub h: f64,
+    /// The grading exponent β towards the ends (0: uniform).
     pub grading: f64,
 }
 
@@ -274,7 +283,8 @@ impl Boundary {
     }
 
     /// The boundary of [`new`](Self::new) with each segment split into 2^`subdivisions`
-    /// equal arc-length pieces on the curve: vertex k · 2^subdivisions is vertex k of `new`.
+    /// pieces of equal spacing count on the curve (equal arc length where the spacing is
+    /// uniform): vertex k · 2^subdivisions is vertex k of `new`.
     pub fn subdivided(
         points: &ControlPoints,
         spacing: Spacing,

@@ -28,14 +28,18 @@ const AREA_BOUND: f64 = 1.6;
 /// A meshed cavity with its quality figures.
 #[derive(Debug, Clone)]
 pub struct Meshed {
+    /// The mesh (mm): linear triangles of region 0, line elements on the diaphragm,
+    /// abdominal wall and pelvic floor ([`LINE_REGION`]), node sets of the boundary parts
+    /// and the landmarks.
     pub mesh: Mesh2d,
     /// Smallest interior angle of any triangle (degrees).
     pub min_angle: f64,
     /// Count of triangles by their smallest angle in 5° bins: [0, 5), [5, 10), …, [55, 60].
     pub angle_histogram: [usize; 12],
-    /// The point of the boundary curve halfway (in arc length) along each boundary segment,
-    /// with the segment's end nodes: where a quadratic mesh puts its boundary mid-edge nodes,
-    /// so that its boundary edges lie on the curve to third order.
+    /// The point of the boundary curve halfway along each boundary segment in the sampling's
+    /// spacing count (the arc-length midpoint where the spacing is uniform; within the
+    /// graded zone nearer the finer end), with the segment's end nodes: where a quadratic
+    /// mesh puts its boundary mid-edge nodes, so that its boundary edges lie on the curve.
     pub boundary_mids: Vec<([usize; 2], [f64; 2])>,
 }
 

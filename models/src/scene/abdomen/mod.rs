@@ -1,19 +1,26 @@
 //! The abdomen scene (seed 003 §5.4): a 2D plane-strain model of the midsagittal section of
 //! the abdominal cavity, pressed by the contracting diaphragm, for comparing pelvis
 //! configurations by the load on the pelvic floor. This module is the [`Scene`]
-//! implementation; the model is built in `model`, discretized in [`discretization`],
-//! meshed in [`mesher`], checked against its validity in `validity`; the variables and
-//! their defaults are in `variables`, the defaults' sources and the theory in the
-//! repository's docs/theory/abdomen.md.
+//! implementation. Below it, lowest first: the variables and their defaults (`variables`),
+//! the outline ([`geometry`], [`anatomy`], [`config`]), the mesh ([`mesher`]), the elements
+//! and stresses ([`discretization`], `outputs`), the parameters read for a build
+//! (`parameters`), the full-order system (`build`), the load and the steps (`stepping`),
+//! the hyper-reduced model's training ([`training`]) and the reduced orders (`reduced`),
+//! the system the scene steps (`simulation`), and where it stops being valid (`validity`).
+//! The defaults' sources and the theory are in the repository's docs/theory/abdomen.md.
 
 pub mod anatomy;
+mod build;
 pub mod config;
 pub mod discretization;
 pub mod geometry;
 pub mod mesher;
-mod model;
 mod outputs;
+mod parameters;
+mod reduced;
+mod simulation;
 mod state;
+mod stepping;
 pub mod training;
 mod validity;
 mod variables;
@@ -23,7 +30,8 @@ pub use state::State;
 use config::{PelvisConfig, ANATOMY};
 use discretization::FieldView;
 use mesher::Meshed;
-use model::{properties, Model};
+use parameters::properties;
+use simulation::Simulation;
 use variables::{
     table, COSTAL_MARGIN, ELEMENT, ERROR_INDICATOR, FIRST_OUTPUT, FORMULATION, INTEGRATOR,
     KINEMATICS, MAX_STEP, MEMORY_LIMIT, MODEL_ORDER, PRESS_AMPLITUDE, PRESS_FORCE, PRESS_FREQUENCY,
@@ -31,7 +39,7 @@ use variables::{
 };
 
 use super::{
-    check_step, megabytes, GeneratedConfiguration, GeneratorParameter, Scene, SceneError,
+    check_step, megabytes, GeneratedConfiguration, GeneratorParameter, Inert, Scene, SceneError,
     SceneState, Values, ValuesState, Variable,
 };
 use crate::budget;
@@ -47,11 +55,15 @@ pelvic-floor stress (seed 003 §5.4)";
 /// (it names `max_step` and h) instead of running for hours.
 pub const MAX_SUBSTEPS: f64 = 100_000.0;
 
+/// Steps shorter than this share of `max_step` only move the time (the abdomen's
+/// `do_step`): at the default 10 ms, steps below 10 ns.
+pub const TINY_STEP: f64 = 1e-6;
+
 /// The scene. Build with [`Abdomen::new`], set parameters, `initialize`, then step.
 #[derive(Debug)]
 pub struct Abdomen {
     values: Values,
-    model: Option<Model>,
+    sim: Option<Simulation>,
     /// The outputs after the last step, once requested; the cavity-wide ones are NaN
     /// until one of them is requested.
     outputs: Option<[f64; outputs::COUNT]>,
@@ -59,9 +71,13 @@ pub struct Abdomen {
     /// The values of the model's last build or stiffness update (what its matrices are of).
     applied: Option<ValuesState>,
     time: f64,
+    /// The time the state lags behind `time` after steps too short to integrate (s).
+    lag: f64,
     /// Warnings not yet taken, and whether the strain warning was given in this run.
     warnings: Vec<String>,
     warned_validity: bool,
+    /// The parameters already warned of in this run for having no effect.
+    inert: Inert,
 }
 
 impl Default for Abdomen {
@@ -75,13 +91,15 @@ impl Abdomen {
     pub fn new() -> Self {
         Self {
             values: Values::new(table()),
-            model: None,
+            sim: None,
             outputs: None,
             stiffness_changed: false,
             applied: None,
             time: 0.0,
+            lag: 0.0,
             warnings: Vec::new(),
             warned_validity: false,
+            inert: Inert::default(),
         }
     }
 
@@ -108,41 +126,41 @@ impl Abdomen {
     /// The 3-node mesh (for `tri6`, the corners) with its quality figures, after
     /// initialization.
     pub fn meshed(&self) -> Option<&Meshed> {
-        self.model.as_ref().map(|m| &m.disc.meshed)
+        self.sim.as_ref().map(|m| &m.full.disc.meshed)
     }
 
     /// The current nodal displacements (all dofs; a modal model expands its coordinates
     /// here) with the meshes and stresses, after initialization.
     pub fn field(&mut self) -> Option<FieldView<'_>> {
-        let m = self.model.as_mut()?;
+        let m = self.sim.as_mut()?;
         m.expand();
-        Some(m.view(m.u_full()))
+        Some(m.full.view(m.u_full()))
     }
 
     /// A displacement of all dofs, e.g. one from [`Abdomen::static_displacement`], with the
     /// meshes and stresses.
     pub fn view<'a>(&'a self, u: &'a [f64]) -> Result<FieldView<'a>, SceneError> {
         let m = self.built("view")?;
-        if u.len() != m.disc.n_dofs() {
+        if u.len() != m.full.disc.n_dofs() {
             return Err(SceneError::InvalidArgument {
                 name: "displacement length",
                 value: u.len() as f64,
                 reason: "must be the model's number of dofs",
             });
         }
-        Ok(m.view(u))
+        Ok(m.full.view(u))
     }
 
     /// The reduction basis of a reduced model order (its kind, Ritz values and
     /// construction time), after initialization.
     pub fn modal_basis(&self) -> Option<&ModalBasis> {
-        self.model.as_ref()?.modal.as_ref().map(|r| &r.basis)
+        self.sim.as_ref()?.reduced.as_ref().map(|r| &r.basis)
     }
 
     /// The hyper-reduction of `model_order = "reduced"` (its fit, range and training time),
     /// after initialization.
-    pub fn hyper(&self) -> Option<&training::Hyper> {
-        self.model.as_ref()?.modal.as_ref()?.hyper.as_ref()
+    pub fn hyper(&self) -> Option<&training::HyperReduction> {
+        self.sim.as_ref()?.reduced.as_ref()?.hyper.as_ref()
     }
 
     /// Starts the built model again, at rest at `start_time` under the press the inputs
@@ -155,16 +173,19 @@ impl Abdomen {
             self.update_stiffness()?;
         }
         self.warnings.clear();
+        let inert = self.inert.check_all(&self.values, parameters::inert);
+        self.warnings.extend(inert);
         let press = self.pressing();
         let dt = self.values.real(MAX_STEP);
         let m = self
-            .model
+            .sim
             .as_mut()
             .ok_or_else(|| SceneError::NotInitialized {
                 name: "restart".into(),
             })?;
         m.start(start_time, dt, |t| press.at(t))?;
         self.time = start_time;
+        self.lag = 0.0;
         self.outputs = None;
         self.warned_validity = false;
         self.check_validity();
@@ -175,20 +196,20 @@ impl Abdomen {
     /// force (N on each free dof per N/mm), after initialization — in every model order, for
     /// solving the same system elsewhere (the peer benchmark exports it).
     pub fn system(&self) -> Option<(&Structure, &[f64])> {
-        let m = self.model.as_ref()?;
-        Some((&m.structure, &m.unit_load))
+        let m = self.sim.as_ref()?;
+        Some((&m.full.structure, m.full.unit_load()))
     }
 
     /// Newton iterations of the last time step (0 at linear kinematics), after
     /// initialization.
     pub fn newton_iterations(&self) -> Option<usize> {
-        Some(self.model.as_ref()?.integrator.newton_iterations())
+        Some(self.sim.as_ref()?.integrator.newton_iterations())
     }
 
     /// Tangent factorizations in the last time step's Newton iterations (0 at linear
     /// kinematics), after initialization.
     pub fn newton_factorizations(&self) -> Option<usize> {
-        Some(self.model.as_ref()?.integrator.newton_factorizations())
+        Some(self.sim.as_ref()?.integrator.newton_factorizations())
     }
 
     /// Current simulation time (s).
@@ -198,8 +219,7 @@ impl Abdomen {
 
     /// The static displacement (all dofs) under a constant pressing force `force` (N/mm).
     pub fn static_displacement(&self, force: f64) -> Result<Vec<f64>, SceneError> {
-        self.built("static_displacement")?
-            .static_displacement(force)
+        stepping::static_displacement(&self.built("static_displacement")?.full, force)
     }
 
     /// The outputs (table order, from `floor_stress_mean` on) for a displacement field of all
@@ -207,8 +227,8 @@ impl Abdomen {
     pub fn evaluate(&self, u_full: &[f64], press: f64) -> Result<Vec<f64>, SceneError> {
         self.view(u_full)?;
         let m = self.built("evaluate")?;
-        let field = m.field(u_full);
-        Ok(m.outputs.compute(&field, Some(&field), press).to_vec())
+        let field = m.full.field(u_full);
+        Ok(m.full.plan.compute(&field, Some(&field), press).to_vec())
     }
 
     /// The pressing force as the inputs now give it.
@@ -222,16 +242,16 @@ impl Abdomen {
 
     /// A model built for the current values, at rest at `start_time` under the pressing
     /// force there.
-    fn started(&self, start_time: f64) -> Result<Model, SceneError> {
-        let mut model = Model::build(&self.values)?;
+    fn started(&self, start_time: f64) -> Result<Simulation, SceneError> {
+        let mut sim = Simulation::build(&self.values)?;
         let press = self.pressing();
-        model.start(start_time, self.values.real(MAX_STEP), |t| press.at(t))?;
-        Ok(model)
+        sim.start(start_time, self.values.real(MAX_STEP), |t| press.at(t))?;
+        Ok(sim)
     }
 
     /// The built model, or an error naming what needed it.
-    fn built(&self, what: &str) -> Result<&Model, SceneError> {
-        self.model
+    fn built(&self, what: &str) -> Result<&Simulation, SceneError> {
+        self.sim
             .as_ref()
             .ok_or_else(|| SceneError::NotInitialized { name: what.into() })
     }
@@ -239,7 +259,7 @@ impl Abdomen {
     fn update_stiffness(&mut self) -> Result<(), SceneError> {
         let props = properties(&self.values)?;
         let m = self
-            .model
+            .sim
             .as_mut()
             .ok_or_else(|| SceneError::NotInitialized {
                 name: "do_step".into(),
@@ -253,7 +273,7 @@ impl Abdomen {
 
     /// The locking warning at the contents' current ν ([`validity::locking`]).
     fn check_locking(&mut self) {
-        let Some(m) = &self.model else {
+        let Some(m) = &self.sim else {
             return;
         };
         let nu = self.values.real(TISSUE_BASE + 1);
@@ -269,7 +289,7 @@ impl Abdomen {
     /// Once per run, the kinematics' validity warning ([`validity::kinematics`]).
     fn check_validity(&mut self) {
         let press = self.pressing();
-        let Some(m) = &mut self.model else {
+        let Some(m) = &mut self.sim else {
             return;
         };
         if self.warned_validity {
@@ -348,14 +368,22 @@ impl Scene for Abdomen {
     }
 
     /// A tissue parameter that changes value marks the stiffness for reassembly at the next
-    /// step; setting the value it already has costs nothing.
+    /// step; setting the value it already has costs nothing. A change after initialization
+    /// of a parameter that cannot act there is warned of, once per run.
     fn set_real(&mut self, vr: u32, values: &[f64]) -> Result<(), SceneError> {
-        let tissue = (TISSUE_BASE..PRESS_AMPLITUDE).contains(&vr);
-        let old = tissue.then(|| self.values.real(vr));
+        let old = self.values.real(vr);
         self.values.set_real(vr, values)?;
-        if tissue && old != Some(values[0]) {
+        if old == values[0] {
+            return Ok(());
+        }
+        if (TISSUE_BASE..PRESS_AMPLITUDE).contains(&vr) {
             properties(&self.values)?;
-            self.stiffness_changed |= self.model.is_some();
+            self.stiffness_changed |= self.sim.is_some();
+        }
+        if self.sim.is_some() {
+            let reason = parameters::inert(&self.values, vr);
+            self.warnings
+                .extend(self.inert.check(&self.values, vr, reason));
         }
         Ok(())
     }
@@ -366,14 +394,15 @@ impl Scene for Abdomen {
         }
         let pressing = self.pressing();
         let (press, press_at) = (pressing.at(self.time), |t| pressing.at(t));
-        let Some(m) = &mut self.model else {
+        let Some(m) = &mut self.sim else {
             return Err(SceneError::NotInitialized {
                 name: self.values.variable(vr)?.name.clone(),
             });
         };
         if vr == ERROR_INDICATOR {
-            // The load at integrator time τ is the press at FMI time τ + (t − t_integrator).
-            let offset = self.time - m.integrator.state().t;
+            // The load at integrator time τ is the press at FMI time τ + (t − lag −
+            // t_integrator): the state is that of t − lag.
+            let offset = self.time - self.lag - m.integrator.state().t;
             out[0] = m.indicator(|tau| press_at(tau + offset))?;
             return Ok(());
         }
@@ -392,13 +421,13 @@ impl Scene for Abdomen {
             IntegratorKind::parse(value)?;
         }
         if vr == WALL_SUPPORT && !matches!(value, "free" | "fixed") {
-            return Err(model::wall_error(value));
+            return Err(parameters::wall_error(value));
         }
         if vr == COSTAL_MARGIN && !matches!(value, "free" | "fixed") {
-            return Err(model::margin_error(value));
+            return Err(parameters::margin_error(value));
         }
         if vr == MODEL_ORDER {
-            model::order(value)?;
+            parameters::order(value)?;
         }
         if vr == ELEMENT {
             discretization::element(value)?;
@@ -416,6 +445,10 @@ impl Scene for Abdomen {
         self.values.string(vr).map(str::to_string)
     }
 
+    fn check(&self) -> Result<(), SceneError> {
+        simulation::check(&self.values)
+    }
+
     fn initialize(&mut self, start_time: f64) -> Result<(), SceneError> {
         if !start_time.is_finite() {
             return Err(SceneError::InvalidArgument {
@@ -425,43 +458,76 @@ impl Scene for Abdomen {
             });
         }
         let limit = megabytes(self.values.real(MEMORY_LIMIT));
-        let model = budget::within(limit, || self.started(start_time))?;
-        self.model = Some(model);
+        let sim = budget::within(limit, || self.started(start_time))?;
+        self.sim = Some(sim);
         self.applied = Some(self.values.save());
         self.time = start_time;
+        self.lag = 0.0;
         self.outputs = None;
         self.values.freeze();
         self.warned_validity = false;
+        let inert = self.inert.check_all(&self.values, parameters::inert);
+        self.warnings.extend(inert);
         self.check_locking();
         self.check_validity();
         Ok(())
     }
 
+    /// Advances from `t` to `t + h`. A step (with the steps absorbed before it) shorter than
+    /// [`TINY_STEP`] of `max_step` — what an importer's accumulated round-off leaves — only
+    /// moves the time: the state lags it by at most that share of a step (a change of the
+    /// displacement of |u̇| h, far below round-off of any output). A step that differs from
+    /// a whole number of the integrator's steps by such a span takes that number of its
+    /// steps and keeps the difference as the lag. Integrating the span instead would prepare
+    /// the integrator for a new step size, restarting its difference formulas (Houbolt's
+    /// starter steps), or for one at which they divide round-off by h².
     fn do_step(&mut self, t: f64, h: f64) -> Result<(), SceneError> {
-        check_step(h)?;
+        check_step(t, h)?;
+        let max_step = self.values.real(MAX_STEP);
+        let span = self.lag + h;
+        if span < TINY_STEP * max_step {
+            if self.sim.is_none() {
+                return Err(SceneError::NotInitialized {
+                    name: "do_step".into(),
+                });
+            }
+            self.lag = span;
+            self.time = t + h;
+            self.outputs = None;
+            return Ok(());
+        }
         if self.stiffness_changed {
             self.update_stiffness()?;
         }
-        let max_step = self.values.real(MAX_STEP);
-        let substeps = (h / max_step - 1e-9).ceil().max(1.0);
+        // The lag absorbed (below TINY_STEP of a step) adds no substep.
+        let substeps = (span / max_step - TINY_STEP).ceil().max(1.0);
         if substeps > MAX_SUBSTEPS {
             return Err(SceneError::TooManySubsteps {
-                h,
+                h: span,
                 max_step,
                 substeps,
                 limit: MAX_SUBSTEPS,
             });
         }
         let press = self.pressing();
-        let Some(m) = &mut self.model else {
+        let Some(m) = &mut self.sim else {
             return Err(SceneError::NotInitialized {
                 name: "do_step".into(),
             });
         };
         // The integrator counts its own time from the start; the load follows the caller's
-        // (the FMI time): τ + (t − t_integrator) is t + j·dt in substep j.
-        let offset = t - m.integrator.state().t;
-        m.advance(h / substeps, substeps as u64, |tau| press.at(tau + offset))?;
+        // (the FMI time): the state is that of t − lag, and τ + (t − lag − t_integrator) is
+        // t − lag + j·dt in substep j.
+        let offset = t - self.lag - m.integrator.state().t;
+        // Substeps of the integrator's step where that leaves a tiny span over (kept as the
+        // lag): a new step size would restart its difference formulas.
+        let leftover = span - substeps * m.integrator.dt();
+        let (dt, lag) = match leftover.abs() < TINY_STEP * max_step {
+            true => (m.integrator.dt(), leftover),
+            false => (span / substeps, 0.0),
+        };
+        m.advance(dt, substeps as u64, |tau| press.at(tau + offset))?;
+        self.lag = lag;
         self.time = t + h;
         self.outputs = None;
         self.check_validity();
@@ -473,17 +539,20 @@ impl Scene for Abdomen {
     }
 
     fn save(&self) -> SceneState {
-        let model = self.model.as_ref().zip(self.applied.as_ref());
+        let sim = self.sim.as_ref().zip(self.applied.as_ref());
         SceneState::Abdomen(Box::new(State {
             values: self.values.save(),
             time: self.time,
+            lag: self.lag,
             stiffness_changed: self.stiffness_changed,
             warnings: self.warnings.clone(),
             warned_validity: self.warned_validity,
-            model: model.map(|(m, applied)| state::ModelState {
+            inert: self.inert.clone(),
+            simulation: sim.map(|(m, applied)| state::SimulationState {
                 applied: applied.clone(),
                 integrator: m.integrator.checkpoint(),
-                tension: m.tension(),
+                tension: m.full.tension(),
+                carried: m.reduced.as_ref().map_or(Vec::new(), |r| r.carried.clone()),
             }),
         }))
     }
@@ -499,26 +568,28 @@ impl Scene for Abdomen {
         };
         let mut values = self.values.clone();
         values.restore(&s.values)?;
-        let model = match &s.model {
+        let sim = match &s.simulation {
             Some(m) => {
                 let mut applied = self.values.clone();
                 applied.restore(&m.applied)?;
                 let limit = megabytes(applied.real(MEMORY_LIMIT));
-                let mut model = budget::within(limit, || Model::build(&applied))?;
-                model.resume(&m.integrator, m.tension)?;
-                Some(model)
+                let mut sim = budget::within(limit, || Simulation::build(&applied))?;
+                sim.resume(&m.integrator, m.tension, &m.carried)?;
+                Some(sim)
             }
             None => None,
         };
         *self = Self {
             values,
-            applied: s.model.as_ref().map(|m| m.applied.clone()),
-            model,
+            applied: s.simulation.as_ref().map(|m| m.applied.clone()),
+            sim,
             outputs: None,
             stiffness_changed: s.stiffness_changed,
             time: s.time,
+            lag: s.lag,
             warnings: s.warnings.clone(),
             warned_validity: s.warned_validity,
+            inert: s.inert.clone(),
         };
         Ok(())
     }

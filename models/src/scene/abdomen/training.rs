@@ -17,8 +17,9 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::model::Model;
-use crate::assembly::quadratic_plane::BodyForces;
+use super::build::FullOrder;
+use super::stepping::{press_run, static_ramp};
+use crate::assembly::quadratic_plane::PlaneBody;
 use crate::budget;
 use crate::scene::SceneError;
 use crate::solve::ecsw::{Fit, HyperReduced};
@@ -29,54 +30,53 @@ use rayon::prelude::*;
 pub const STATIC_STATES: usize = 10;
 
 /// The dynamic training presses' amplitudes as shares of the training press: a fast press
-/// of a low amplitude excites other shapes than one of a high amplitude (measured
-/// 2026-11-26, one run each, POD to 1e-3: trained at the full amplitude only, 5 Hz presses
-/// to 1/6 and 2/3 of it came out 43 % and 6.3 % off in the floor's peak stress on the wide
-/// pelvis; with these three shares 0.45 % and 2.2 %).
+/// of a low amplitude excites other shapes than one of a high amplitude (trained at the
+/// full amplitude only, low presses came out tens of per cent off: BENCHMARKS.md, "The
+/// hyper-reduced abdomen's training").
 pub const DYNAMIC_SHARES: [f64; 3] = [0.125, 0.375, 1.0];
 
 /// The POD keeps the vectors that leave at most this share of the training states out
-/// (energy norm, [`pod`]): 48 vectors on the default abdomen. Measured (2026-11-26, one run
-/// each) on 5 Hz presses, the error of the floor's peak stress does not fall steadily with
-/// the tolerance (1e-3, 3e-4, 2e-4, 1.5e-4: 2.1, 0.91, 0.26, 0.06 % on the normal pelvis at
-/// 0.8 N/mm; 1.09, 1.28, 1.15, 1.48 % on the narrow one at 0.2 N/mm); at 3e-4 the slower
-/// presses of the shipped configurations are within 0.65 %.
+/// (energy norm, [`pod`]): 48 vectors on the default abdomen. The error of the floor's peak
+/// stress does not fall steadily with the tolerance; at 3e-4 the slower presses of the
+/// shipped configurations are within 0.65 % (BENCHMARKS.md, "The hyper-reduced abdomen's
+/// training").
 pub const POD_TOLERANCE: f64 = 3e-4;
 
 /// The ECSW weights reproduce the reduced training forces to this share (root mean square
 /// over the states of each state's relative error): 210 of 1,129 elements on the default
-/// abdomen. The basis, not the sampling, sets the outputs' error (measured 2026-11-26, one
-/// run each, with an earlier 25-vector basis: 1e-2, 5e-2 and 1e-1 sampled 231, 167 and 140
-/// elements and gave the same output errors to 0.1 % of their peaks).
+/// abdomen. The basis, not the sampling, sets the outputs' error (BENCHMARKS.md, "The
+/// hyper-reduced abdomen's training").
 pub const ECSW_TOLERANCE: f64 = 5e-2;
 
 /// The reduced model's Newton iterations stop at a residual of this share of its scale:
 /// a hundred times the full model's tolerance, still a thousand times below the reduction's
-/// own error (10⁻³ of the peaks and more). Measured (2026-11-26, one run each, the default
-/// press): 3.9 instead of 5.6 iterations per step, the step 14 % shorter.
+/// own error (10⁻³ of the peaks and more): fewer iterations per step (BENCHMARKS.md, "The
+/// hyper-reduced abdomen's training").
 pub const REDUCED_NEWTON_TOLERANCE: f64 = 1e-6;
 
 /// The training presses take at least this many steps per period of the training
 /// frequency: 10 ms at the default 5 Hz, the default `max_step`. `max_step` bounds the
-/// online model's steps; it must not coarsen the training states (trained at 50 ms, four
-/// states per period, the shipped configurations' peaks under 5 Hz presses in 10 ms steps
-/// came out up to 5.9 % off full order instead of 1.28 %: measured 2026-11-27, one run).
+/// online model's steps; it must not coarsen the training states (trained at four states
+/// per period the reduced model came out several times further from full order:
+/// BENCHMARKS.md, "The hyper-reduced abdomen's training").
 pub const STEPS_PER_PERIOD: f64 = 20.0;
 
 /// The step of the training presses for a model of largest step `max_step`.
-pub fn step(range: Range, max_step: f64) -> f64 {
+pub fn step(range: TrainingRange, max_step: f64) -> f64 {
     max_step.min(1.0 / (STEPS_PER_PERIOD * range.frequency))
 }
 
 /// What the reduced model is trained for: presses from 0 to `press` (N/mm) of frequencies
 /// up to `frequency` (Hz).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Range {
+pub struct TrainingRange {
+    /// The training press A (N/mm): the largest press the reduced model is trained for.
     pub press: f64,
+    /// The training frequency f (Hz): the highest press frequency it is trained for.
     pub frequency: f64,
 }
 
-impl Range {
+impl TrainingRange {
     /// The warning for a press between `low` and `peak` (N/mm) of frequency `frequency`
     /// (Hz; 0 for a constant press) that leaves the range (beyond its round-off: 1.5 × 0.8
     /// is 1.2000000000000002).
@@ -98,10 +98,14 @@ impl Range {
 /// The trained hyper-reduction: the forces, the fit, the range and the time the training
 /// took (s, basis included).
 #[derive(Debug)]
-pub struct Hyper {
+pub struct HyperReduction {
+    /// The hyper-reduced internal forces: the ECSW-weighted sampled elements on the basis.
     pub forces: Arc<HyperReduced>,
+    /// What the ECSW fit found: states fitted on, elements sampled, residual reached.
     pub fit: Fit,
-    pub range: Range,
+    /// The press and frequency range the training covers.
+    pub range: TrainingRange,
+    /// The wall-clock time the training took, training states and basis included (s).
     pub seconds: f64,
 }
 
@@ -109,12 +113,12 @@ pub struct Hyper {
 /// `max_step`) over `range`, the training presses stepped at [`step`], with at most `max`
 /// basis vectors: the basis and the hyper-reduction.
 pub fn train(
-    model: &Model,
-    body: &Arc<BodyForces>,
-    range: Range,
+    model: &FullOrder,
+    body: &Arc<PlaneBody>,
+    range: TrainingRange,
     max_step: f64,
     max: usize,
-) -> Result<(ModalBasis, Hyper), SceneError> {
+) -> Result<(ModalBasis, HyperReduction), SceneError> {
     let clock = Instant::now();
     let (states, presses) = states(model, range, step(range, max_step))?;
     let full = &model.structure;
@@ -136,7 +140,7 @@ pub fn train(
         |i| model.set_press(presses[i]),
         ECSW_TOLERANCE,
     )?;
-    let hyper = Hyper {
+    let hyper = HyperReduction {
         forces: Arc::new(forces),
         fit,
         range,
@@ -150,7 +154,11 @@ pub fn train(
 /// four runs side by side on rayon's threads, each within a quarter of the memory budget
 /// left ([`budget::part`]; each run is deterministic, so the states are the same on any
 /// number of threads) — and the states claimed against the budget.
-fn states(model: &Model, range: Range, dt: f64) -> Result<(Vec<Vec<f64>>, Vec<f64>), SceneError> {
+fn states(
+    model: &FullOrder,
+    range: TrainingRange,
+    dt: f64,
+) -> Result<(Vec<Vec<f64>>, Vec<f64>), SceneError> {
     let share = budget::shares(1 + DYNAMIC_SHARES.len());
     let (slow, dynamic) = rayon::join(
         || budget::part(share, || quasi_static(model, range, dt)),
@@ -159,7 +167,7 @@ fn states(model: &Model, range: Range, dt: f64) -> Result<(Vec<Vec<f64>>, Vec<f6
                 .par_iter()
                 .map(|a| {
                     let press = [a * range.press, range.frequency, dt, 1.0];
-                    budget::part(share, || model.press_run(press))
+                    budget::part(share, || press_run(model, press))
                 })
                 .collect::<Result<Vec<_>, _>>()
         },
@@ -180,23 +188,22 @@ fn states(model: &Model, range: Range, dt: f64) -> Result<(Vec<Vec<f64>>, Vec<f6
 /// The quasi-static training states with the press at each. With the wall braced, the
 /// static equilibria under presses of (i/N)² of the training press, i = 1 … N =
 /// [`STATIC_STATES`]. A free wall is a membrane slack at rest, from which Newton's method
-/// finds the first static equilibrium only slowly (measured 2026-11-26: 47 load increments
-/// of 24–25 iterations each, 10.9 s, for the first of them on the default abdomen); with
+/// finds the first static equilibrium only slowly (BENCHMARKS.md, "The hyper-reduced
+/// abdomen's training"); with
 /// inertia a slow press gets there in steps: the rise of a press to the training press at a
 /// tenth of the training frequency ([`SLOW_PRESS`]), every [`SLOW_STRIDE`]-th state.
 fn quasi_static(
-    model: &Model,
-    range: Range,
+    model: &FullOrder,
+    range: TrainingRange,
     dt: f64,
 ) -> Result<(Vec<Vec<f64>>, Vec<f64>), SceneError> {
     if model.fixed_wall() {
         let levels: Vec<f64> = (1..=STATIC_STATES)
             .map(|i| range.press * (i as f64 / STATIC_STATES as f64).powi(2))
             .collect();
-        return Ok((model.static_ramp(&levels)?, levels));
+        return Ok((static_ramp(model, &levels)?, levels));
     }
-    let (states, presses) =
-        model.press_run([range.press, range.frequency / SLOW_PRESS, dt, 0.5])?;
+    let (states, presses) = press_run(model, [range.press, range.frequency / SLOW_PRESS, dt, 0.5])?;
     // Every SLOW_STRIDE-th state, and the last (the peak) in any case.
     let last = states.len().saturating_sub(1);
     let kept = |i: usize| (i + 1).is_multiple_of(SLOW_STRIDE) || i == last;
@@ -249,7 +256,7 @@ mod tests {
     /// training period, that twentieth where `max_step` is coarser.
     #[test]
     fn the_training_step_is_max_step_or_a_twentieth_of_the_period() {
-        let at = |frequency| Range {
+        let at = |frequency| TrainingRange {
             press: 1.0,
             frequency,
         };
@@ -260,14 +267,14 @@ mod tests {
     }
 
     /// The default abdomen on a coarse mesh (to keep a full basis small).
-    fn coarse() -> Model {
+    fn coarse() -> FullOrder {
         let mut values = Values::new(table());
         values.set_real(TARGET_TRIANGLES, &[60.0]).unwrap();
-        Model::build(&values).unwrap_or_else(|e| panic!("{e}"))
+        FullOrder::build(&values).unwrap_or_else(|e| panic!("{e}"))
     }
 
     /// The defaults' training range.
-    const RANGE: Range = Range {
+    const RANGE: TrainingRange = TrainingRange {
         press: 1.2,
         frequency: 5.0,
     };
@@ -277,7 +284,7 @@ mod tests {
     const TIGHT: f64 = 1e-12;
 
     /// The basis and hyper-reduction of `model` trained over [`RANGE`] at 10 ms.
-    fn trained(model: &Model) -> (ModalBasis, Hyper) {
+    fn trained(model: &FullOrder) -> (ModalBasis, HyperReduction) {
         let body = model.body.clone().expect("finite strain");
         train(model, &body, RANGE, 0.01, 80).unwrap_or_else(|e| panic!("{e}"))
     }
@@ -286,8 +293,7 @@ mod tests {
     /// one, the reduced model is the full one in other coordinates; Newton's corrections
     /// are invariant under that change of coordinates (only its stopping tests, on norms,
     /// are not), so both runs agree to the steps' Newton tolerance: 1e-9 with both run to
-    /// [`TIGHT`] (measured 2026-11-27: 1.4e-10 of the peak displacement over the 20 steps;
-    /// at the models' own tolerance, 1e-8, they agreed to 5.9e-9; one run each).
+    /// [`TIGHT`].
     #[test]
     fn the_complete_basis_at_unit_weights_is_the_full_model() {
         let model = coarse();
@@ -307,10 +313,15 @@ mod tests {
         let mut unit = vec![0.0; n];
         basis.project(model.unit_load(), &mut unit);
         let press = |s: &Structure, unit: &[f64]| {
-            model
-                .press_states(s, &own.tension, unit, [0.8, 5.0, 0.01, 1.0])
-                .unwrap_or_else(|e| panic!("{e}"))
-                .0
+            super::super::stepping::press_states(
+                &model,
+                s,
+                &own.tension,
+                unit,
+                [0.8, 5.0, 0.01, 1.0],
+            )
+            .unwrap_or_else(|e| panic!("{e}"))
+            .0
         };
         let expected = press(
             &own.structure.clone().with_newton_tolerance(TIGHT),
@@ -379,7 +390,7 @@ mod tests {
         let full = &model.structure;
         let (basis, hyper) = trained(&model);
         assert!(hyper.fit.sampled < hyper.fit.elements, "{:?}", hyper.fit);
-        let u = model.static_ramp(&[0.8]).unwrap().pop().unwrap();
+        let u = static_ramp(&model, &[0.8]).unwrap().pop().unwrap();
         model.set_press(0.8);
         let (r, n) = (basis.dim(), full.n());
         let (mut free, mut q) = (vec![0.0; n], vec![0.0; r]);

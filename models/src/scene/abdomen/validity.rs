@@ -6,21 +6,22 @@
 //!   0.499 (`tests/locking.rs`, `abdomen_elements.rs`); the mixed element does not lock;
 //! - **linear kinematics**: a principal strain beyond [`SMALL_STRAIN_LIMIT`] (5 %);
 //! - **the reduced model** (`model_order = "reduced"`): a press outside the range it is
-//!   trained for ([`super::training::Range`]).
+//!   trained for ([`super::training::TrainingRange`]).
 //!
 //! Finite kinematics has no limit of its own here: the membranes go slack in compression
 //! as thin sheets do ([`crate::element::membrane`]), and an element turned inside out or a
 //! step without equilibrium is an error, not a warning.
 
 use super::discretization::Element;
-use super::model::Model;
-use crate::element::tri6::Formulation;
-use crate::scene::{seconds, SMALL_STRAIN_LIMIT};
+use super::simulation::Simulation;
+use crate::element::mixed::Formulation;
+use crate::error::seconds;
+use crate::scene::SMALL_STRAIN_LIMIT;
 
-/// The locking warning for contents of Poisson's ratio `nu` on `model`'s element, if it
+/// The locking warning for contents of Poisson's ratio `nu` on `sim`'s element, if it
 /// locks there; `names` are the `element` and `formulation` values, for the message.
-pub fn locking(model: &Model, nu: f64, names: (&str, &str)) -> Option<String> {
-    let choice = model.disc.choice;
+pub fn locking(sim: &Simulation, nu: f64, names: (&str, &str)) -> Option<String> {
+    let choice = sim.full.disc.choice;
     let limit = match (choice.element, choice.formulation) {
         (Element::Tri3, _) => 0.45,
         (Element::Tri6, Formulation::Displacement) => 0.499,
@@ -38,19 +39,16 @@ pub fn locking(model: &Model, nu: f64, names: (&str, &str)) -> Option<String> {
 
 /// The kinematics' warning at time `time`, if the state leaves their validity: at linear
 /// kinematics the largest principal strain beyond the small-strain limit (a modal model
-/// expands its field only when [`Model::strain_bound`] does not rule that out).
-pub fn kinematics(model: &mut Model, time: f64) -> Option<String> {
-    if model.disc.choice.finite {
+/// expands its field only when [`Simulation::strain_bound`] does not rule that out).
+pub fn kinematics(sim: &mut Simulation, time: f64) -> Option<String> {
+    if sim.full.disc.choice.finite {
         return None;
     }
-    if model
-        .strain_bound()
-        .is_some_and(|b| b <= SMALL_STRAIN_LIMIT)
-    {
+    if sim.strain_bound().is_some_and(|b| b <= SMALL_STRAIN_LIMIT) {
         return None;
     }
-    model.expand();
-    let strain = model.view(model.u_full()).largest_strain();
+    sim.expand();
+    let strain = sim.full.view(sim.u_full()).largest_strain();
     (strain > SMALL_STRAIN_LIMIT).then(|| {
         format!(
             "at t = {} s the largest principal strain is {:.1} %, beyond the {:.0} % linear \
@@ -65,7 +63,7 @@ pub fn kinematics(model: &mut Model, time: f64) -> Option<String> {
 
 /// The reduced model's warning when the press, between `extremes` (N/mm) at `frequency`
 /// (Hz; 0 for a constant press), leaves the range it is trained for.
-pub fn training(model: &Model, extremes: [f64; 2], frequency: f64) -> Option<String> {
-    let hyper = model.modal.as_ref()?.hyper.as_ref()?;
+pub fn training(sim: &Simulation, extremes: [f64; 2], frequency: f64) -> Option<String> {
+    let hyper = sim.reduced.as_ref()?.hyper.as_ref()?;
     hyper.range.check(extremes, frequency)
 }

@@ -20,7 +20,7 @@
 //! hold, not where their nodes were caught, and the answer is the same whatever the loading
 //! history (a block closed and then pulled open ends with no springs, as a block pulled open
 //! at once; a cut pulled open and then closed ends as one closed at once, to 1e-9). Where
-//! that does not settle in [`super::topology`]'s bound, or lets a node slide deeper than
+//! that does not settle in the step's bound of solves, or lets a node slide deeper than
 //! the small-sliding limit below, the answer with the springs linearized where their nodes
 //! were caught stays, and the scene warns once per run. Not so under a press on closed
 //! flanks: one load step or two end at different equilibria there (docs/theory/cutblock.md),

@@ -2,6 +2,7 @@
 //! cut bottom are node planes), and the mesh of the block cut up to a crack front at any x
 //! (a node plane put there, [`Geometry::x_planes`]).
 
+use crate::error::ModelError;
 use crate::mesh::cut::{self, CutMesh, Incision};
 use crate::mesh::generate;
 use crate::scene::SceneError;
@@ -18,9 +19,7 @@ impl Strategy {
         match s {
             "duplicate" => Ok(Self::Duplicate),
             "delete" => Ok(Self::Delete),
-            _ => Err(SceneError::Config(format!(
-                "cut_strategy `{s}`: use `duplicate` or `delete`"
-            ))),
+            _ => Err(ModelError::unknown("cut_strategy", s, "duplicate or delete").into()),
         }
     }
 }
@@ -43,9 +42,7 @@ impl Support {
             "clamped" => Ok(Self::Clamped),
             "sliding" => Ok(Self::Sliding),
             "gripped" => Ok(Self::Gripped),
-            _ => Err(SceneError::Config(format!(
-                "support `{s}`: use `clamped`, `sliding` or `gripped`"
-            ))),
+            _ => Err(ModelError::unknown("support", s, "clamped, sliding or gripped").into()),
         }
     }
 }
@@ -167,7 +164,7 @@ fn layer_ratio(planes: &[f64], target: f64) -> f64 {
 /// floor rises with h / width, the single-precision factor falls back to double, and
 /// below about 1e-7 h (default cells) the mesh check rejects its tetrahedra as
 /// degenerate. At 1e-5 h (0.17 µm on the default block) a cold 10 mm pull takes about
-/// three times as long as on the uniform cells (2026-11-27, scratch runs, not kept).
+/// three times as long as on the uniform cells (BENCHMARKS.md, "The snap distance").
 pub const SNAP: f64 = 1e-5;
 
 /// Below this ratio of adjacent layer thicknesses at the cut, the scene warns that the mesh

@@ -22,43 +22,43 @@
 //! flanks whose contact springs could not be linearized again where they hold or that a
 //! press acts on (the answer then may depend on the loading history; see `contact.rs`).
 
+mod checkpoint;
 mod contact;
+mod equilibrium;
 mod geometry;
 mod outputs;
+mod path;
 mod profiles;
+mod settle;
 mod topology;
 mod transfer;
 mod variables;
+mod work;
 
+use checkpoint::TopologyState;
+use equilibrium::{settings, Spare};
 pub use geometry::SNAP;
 use geometry::{Geometry, Options, Strategy, Support};
 use outputs::Outputs;
-pub use topology::MAX_INCREMENTS;
-use topology::{Spare, Topology, TopologyState};
+pub use profiles::{PROFILE_LINES, PROFILE_STATIONS, PROFILE_STEP};
+pub use settle::MAX_INCREMENTS;
+use topology::Topology;
 use variables::*;
+pub use work::{Timing, Work};
 
 use super::{
-    check_step, megabytes, Scene, SceneError, SceneState, Values, ValuesState, Variable,
+    check_step, megabytes, Inert, Scene, SceneError, SceneState, Values, ValuesState, Variable,
     SMALL_STRAIN_LIMIT,
 };
-use crate::assembly::solid::{Solid, Tetrahedron};
+use crate::assembly::tetrahedra::{Solid, Tetrahedron};
 use crate::budget;
 use crate::element::{Elastic, Law, Material};
-use crate::solve::newton::Settings;
-use std::time::Duration;
+use crate::error::ModelError;
 
 /// What the scene is, in one line (the FMUs' `description`).
 pub const DESCRIPTION: &str = "3D tetrahedral silicone block (tet4 or tet10; linear, \
 neo-Hookean or St. Venant-Kirchhoff) with a scalpel incision, pulled and pressed, cut flanks \
 in contact; reaction force, cut opening, bottom lift and laser profiles (seed 002)";
-
-/// Laser-profile stations: y = 0, 0.5, …, 90 mm in lab coordinates (the default block
-/// pulled by up to 10 mm).
-pub const PROFILE_STATIONS: usize = 181;
-/// Spacing of the profile stations (mm).
-pub const PROFILE_STEP: f64 = 0.5;
-/// The scanner lines x = 25, 50, 75 mm (seed 002 §3.5, Fig. 4.7).
-pub const PROFILE_LINES: [f64; 3] = [25.0, 50.0, 75.0];
 
 /// The scene. Build with [`CutBlock::new`], set parameters, `initialize`, then step.
 #[derive(Debug)]
@@ -73,12 +73,16 @@ pub struct CutBlock {
     reached: f64,
     outputs: Outputs,
     work: Work,
+    /// Where the Newton solves of the replaced topologies spent their time.
+    timing: Timing,
     /// Warnings not yet taken, and whether the strain, the contact and the press warnings
     /// were given in this run.
     warnings: Vec<String>,
     warned_strain: bool,
     warned_contact: bool,
     warned_press: bool,
+    /// The parameters already warned of in this run for having no effect.
+    inert: Inert,
 }
 
 /// The cut block's state (see [`SceneState`]).
@@ -97,59 +101,10 @@ pub struct State {
     warned_contact: bool,
     #[serde(default)]
     warned_press: bool,
+    /// The parameters already warned of in this run for having no effect.
+    #[serde(default)]
+    inert: Inert,
 }
-
-/// What the scene has done so far: how often it rebuilt the topology (and of those, made a
-/// new pattern and symbolic analysis), refactorized and solved, and for the finite-strain
-/// laws the Newton increments and iterations and where their time went.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub struct Work {
-    pub topology_builds: u64,
-    pub analyses: u64,
-    pub factorizations: u64,
-    pub solves: u64,
-    pub increments: u64,
-    pub iterations: u64,
-    pub assembly: Duration,
-    pub factorization: Duration,
-    pub solve: Duration,
-}
-
-impl Work {
-    fn add(self, other: Work) -> Work {
-        Work {
-            topology_builds: self.topology_builds + other.topology_builds,
-            analyses: self.analyses + other.analyses,
-            factorizations: self.factorizations + other.factorizations,
-            solves: self.solves + other.solves,
-            increments: self.increments + other.increments,
-            iterations: self.iterations + other.iterations,
-            assembly: self.assembly + other.assembly,
-            factorization: self.factorization + other.factorization,
-            solve: self.solve + other.solve,
-        }
-    }
-}
-
-/// Newton keeps its factorization while each iteration reduces the residual at least 4
-/// times (the solver's default asks for 10). On the default tet10 block a factorization
-/// costs about 430 ms and an iteration on a kept one about 30 ms, and after a blade advance
-/// the iterations on the first tangent contract by 0.02–0.16: with 10 most advances
-/// refactorized once more. Measured (`cargo bench -p models --bench cutblock`, one run,
-/// BENCHMARKS.md): a 1 mm tet10 advance 1.28 s → 0.95 s, the 0 → 10 mm tet10 pull
-/// 5.94 s → 5.19 s.
-const REUSE_CONTRACTION: f64 = 0.25;
-
-/// For tet10 the factorization costs more iterations (about 15 against about 5 for tet4),
-/// and the Anderson-accelerated iterations on a kept one contract faster than the plain
-/// ones the 0.25 above was chosen for: a tet10 factorization is kept while each iteration
-/// halves the residual. Measured (`cargo run --release -p models --example cutblock_pull --
-/// neo-hookean ELEMENT REFINE`, the full cut pulled 0 → 10 mm in 4 increments, one run
-/// each, 2026-11-27, both with the accelerated iterations): tet10 6 → 4 factorizations,
-/// 31 → 45 iterations, 3.71 → 3.08 s; at 1.5× the cells 6 → 5, 34 → 48, 22.6 → 17.7 s;
-/// tet4 with 0.5 instead of 0.25 would
-/// go 112 → 133 ms (4 → 3 factorizations, 31 → 41 iterations).
-const REUSE_CONTRACTION_TET10: f64 = 0.5;
 
 impl Default for CutBlock {
     fn default() -> Self {
@@ -168,17 +123,26 @@ impl CutBlock {
             reached: 0.0,
             outputs: Outputs::default(),
             work: Work::default(),
+            timing: Timing::default(),
             warnings: Vec::new(),
             warned_strain: false,
             warned_contact: false,
             warned_press: false,
+            inert: Inert::default(),
         }
     }
 
     /// What the scene has done so far (all topologies).
     pub fn work(&self) -> Work {
-        let current = self.topology.as_ref().map(|t| t.work);
-        self.work.add(current.unwrap_or_default())
+        let current = self.topology.as_ref().map(|t| t.eq.work);
+        self.work + current.unwrap_or_default()
+    }
+
+    /// Where the Newton solves' time went so far (all topologies; since the scene was made
+    /// or restored: timings are not part of its state).
+    pub fn timing(&self) -> Timing {
+        let current = self.topology.as_ref().map(|t| t.eq.timing);
+        self.timing + current.unwrap_or_default()
     }
 
     /// Sets a real variable by name (convenience for tests and the harness).
@@ -198,7 +162,9 @@ impl CutBlock {
     /// The current solid (nodes, elements, material) and nodal displacements (all dofs),
     /// for plots and files.
     pub fn field(&self) -> Option<(&Solid, &[f64])> {
-        self.topology.as_ref().map(|t| (&t.solid, t.u.as_slice()))
+        self.topology
+            .as_ref()
+            .map(|t| (&t.solid, t.eq.u.as_slice()))
     }
 
     /// The top-surface heights (mm) along the scan line x = `line` at the lab-frame stations
@@ -216,7 +182,7 @@ impl CutBlock {
         let sections = &mut Default::default();
         t.top.profile(
             nodes,
-            &t.u,
+            &t.eq.u,
             line,
             ys.iter().copied(),
             &mut heights,
@@ -235,17 +201,6 @@ impl CutBlock {
             Law::parse(self.values.string(MATERIAL)?)?,
             elastic,
         ))
-    }
-
-    fn settings(&self, kind: Tetrahedron) -> Settings {
-        Settings {
-            max_increment: self.values.real(MAX_INCREMENT),
-            reuse_contraction: match kind {
-                Tetrahedron::Tet4 => REUSE_CONTRACTION,
-                Tetrahedron::Tet10 => REUSE_CONTRACTION_TET10,
-            },
-            ..Settings::default()
-        }
     }
 
     /// Once per run: the linear law's largest principal strain beyond its limit.
@@ -275,7 +230,7 @@ impl CutBlock {
         let Some(t) = &mut self.topology else {
             return;
         };
-        let fell_back = std::mem::take(&mut t.fell_back);
+        let fell_back = std::mem::take(&mut t.eq.fell_back);
         let pressed = press > 0.0 && t.contact.as_ref().is_some_and(|c| !c.active.is_empty());
         if fell_back && !self.warned_contact {
             self.warned_contact = true;
@@ -336,7 +291,7 @@ impl CutBlock {
             })?;
         let material = self.material()?;
         let kind = Tetrahedron::parse(self.values.string(ELEMENT)?)?;
-        let settings = self.settings(kind);
+        let settings = settings(kind, self.values.real(MAX_INCREMENT));
         let (pull, press, scalpel) = (
             self.values.real(PULL),
             self.values.real(PRESS),
@@ -348,7 +303,7 @@ impl CutBlock {
         match &mut self.topology {
             Some(t) if t.front == front => {
                 t.set_material(material)?;
-                t.set_max_increment(settings.max_increment)?;
+                t.eq.set_max_increment(settings.max_increment)?;
                 t.solve(geometry, pull, press, scalpel)?;
             }
             slot => {
@@ -380,7 +335,8 @@ impl CutBlock {
                     built.solve(geometry, pull, press, scalpel)?;
                 }
                 if let Some(old) = slot.replace(built) {
-                    self.work = self.work.add(old.work);
+                    self.work = self.work + old.eq.work;
+                    self.timing = self.timing + old.eq.timing;
                     self.spare = slot.as_ref().and_then(|new| old.into_spare(new));
                 }
                 self.work.topology_builds += 1;
@@ -393,6 +349,22 @@ impl CutBlock {
         self.check_contact(press);
         Ok(())
     }
+}
+
+/// Why the parameter `vr` cannot act under the present values, if it cannot: Newton's load
+/// increment with the linear law (which solves each step at once), the cut's strategy on a
+/// block without a cut.
+fn inert(values: &Values, vr: u32) -> Option<&'static str> {
+    if vr == MAX_INCREMENT && values.string(MATERIAL).is_ok_and(|m| m == "linear") {
+        return Some(
+            "the linear law solves each step at once; max_increment acts with the finite-strain \
+             laws",
+        );
+    }
+    if vr == STRATEGY && values.real(DEPTH) == 0.0 {
+        return Some("cut_depth = 0: the block has no cut");
+    }
+    None
 }
 
 /// Runs `solve` on one of rayon's threads, the caller waiting asleep (on a thread of the
@@ -412,11 +384,19 @@ impl Scene for CutBlock {
         self.values.table()
     }
 
+    /// A change after initialization of a parameter that cannot act there is warned of,
+    /// once per run.
     fn set_real(&mut self, vr: u32, values: &[f64]) -> Result<(), SceneError> {
+        let old = self.values.real(vr);
         self.values.set_real(vr, values)?;
         if vr == YOUNG || vr == POISSON {
             // Checked here so that a bad combination is refused at once, not at the step.
             self.material()?;
+        }
+        if self.geometry.is_some() && old != values[0] {
+            let reason = inert(&self.values, vr);
+            self.warnings
+                .extend(self.inert.check(&self.values, vr, reason));
         }
         Ok(())
     }
@@ -440,9 +420,7 @@ impl Scene for CutBlock {
             STRATEGY => Strategy::parse(value).map(drop)?,
             SUPPORT => Support::parse(value).map(drop)?,
             CONTACT if !matches!(value, "penalty" | "none") => {
-                return Err(SceneError::Config(format!(
-                    "contact `{value}`: use `penalty` or `none`"
-                )));
+                return Err(ModelError::unknown("contact", value, "penalty or none").into());
             }
             MATERIAL => Law::parse(value).map(drop)?,
             ELEMENT => Tetrahedron::parse(value).map(drop)?,
@@ -456,7 +434,15 @@ impl Scene for CutBlock {
     }
 
     /// Quasi-static: the start time does not matter.
+    fn check(&self) -> Result<(), SceneError> {
+        self.geometry_from_values()?;
+        self.material()?;
+        Tetrahedron::parse(self.values.string(ELEMENT)?)?;
+        Ok(())
+    }
+
     fn initialize(&mut self, _start_time: f64) -> Result<(), SceneError> {
+        self.check()?;
         let limit = megabytes(self.values.real(MEMORY_LIMIT));
         let geometry = budget::within(limit, || self.geometry_from_values())?;
         self.warnings.extend(geometry.warnings.iter().cloned());
@@ -465,6 +451,8 @@ impl Scene for CutBlock {
         self.warned_strain = false;
         self.warned_contact = false;
         self.warned_press = false;
+        let inert = self.inert.check_all(&self.values, inert);
+        self.warnings.extend(inert);
         in_pool(|| self.solve())?;
         self.values.freeze();
         Ok(())
@@ -485,6 +473,7 @@ impl Scene for CutBlock {
             warned_strain: self.warned_strain,
             warned_contact: self.warned_contact,
             warned_press: self.warned_press,
+            inert: self.inert.clone(),
         }))
     }
 
@@ -509,7 +498,7 @@ impl Scene for CutBlock {
             let topology = match &s.topology {
                 Some(t) => {
                     let kind = Tetrahedron::parse(scene.values.string(ELEMENT)?)?;
-                    let settings = scene.settings(kind);
+                    let settings = settings(kind, scene.values.real(MAX_INCREMENT));
                     Some(budget::within(limit, || {
                         Topology::resume(&geometry, t, kind, settings)
                     })?)
@@ -532,13 +521,14 @@ impl Scene for CutBlock {
             warned_strain: s.warned_strain,
             warned_contact: s.warned_contact,
             warned_press: s.warned_press,
+            inert: s.inert.clone(),
             ..scene
         };
         Ok(())
     }
 
-    fn do_step(&mut self, _t: f64, h: f64) -> Result<(), SceneError> {
-        check_step(h)?;
+    fn do_step(&mut self, t: f64, h: f64) -> Result<(), SceneError> {
+        check_step(t, h)?;
         in_pool(|| self.solve())
     }
 }

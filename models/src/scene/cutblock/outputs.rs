@@ -1,9 +1,9 @@
 //! The cut block's outputs, computed together on the first request after a step.
 
 use super::geometry::Geometry;
+use super::profiles::{PROFILE_LINES, PROFILE_STATIONS, PROFILE_STEP};
 use super::topology::Topology;
-use super::{PROFILE_LINES, PROFILE_STATIONS, PROFILE_STEP};
-use crate::assembly::solid::Tetrahedron;
+use crate::assembly::tetrahedra::Tetrahedron;
 use crate::stress;
 
 /// All outputs of one solved state, in table order, computed together on the first read
@@ -72,7 +72,7 @@ impl Outputs {
             profile.resize(PROFILE_STATIONS, 0.0);
             t.top.profile(
                 t.solid.nodes(),
-                &t.u,
+                &t.eq.u,
                 x,
                 stations(),
                 profile,
@@ -84,15 +84,15 @@ impl Outputs {
 
 /// Σ of the y-components of the internal forces over the pulled face (N): the reaction.
 fn reaction_force(t: &Topology) -> f64 {
-    t.pulled.iter().map(|n| t.internal[3 * n + 1]).sum()
+    t.pulled.iter().map(|n| t.eq.internal[3 * n + 1]).sum()
 }
 
 fn deformed(t: &Topology, n: usize) -> [f64; 3] {
     let p = t.solid.nodes()[n];
     [
-        p[0] + t.u[3 * n],
-        p[1] + t.u[3 * n + 1],
-        p[2] + t.u[3 * n + 2],
+        p[0] + t.eq.u[3 * n],
+        p[1] + t.eq.u[3 * n + 1],
+        p[2] + t.eq.u[3 * n + 2],
     ]
 }
 
@@ -118,7 +118,7 @@ fn bottom_lift(g: &Geometry, t: &Topology, line: &mut Vec<(f64, f64)>) -> f64 {
     line.extend(
         (0..p.len())
             .filter(|&n| p[n][2] == 0.0 && p[n][1] == g.y_cut)
-            .map(|n| (p[n][0], t.u[3 * n + 2])),
+            .map(|n| (p[n][0], t.eq.u[3 * n + 2])),
     );
     let nodal = line
         .iter()
@@ -157,9 +157,9 @@ fn x_contraction(g: &Geometry, t: &Topology) -> f64 {
     (0..p.len())
         .filter_map(|n| {
             if p[n][0] == 0.0 {
-                Some(t.u[3 * n])
+                Some(t.eq.u[3 * n])
             } else if p[n][0] == g.size[0] {
-                Some(-t.u[3 * n])
+                Some(-t.eq.u[3 * n])
             } else {
                 None
             }
@@ -174,7 +174,7 @@ fn stress_and_strain(t: &Topology, s: &mut Scratch) -> (f64, f64) {
     let elements = &mut s.elements;
     elements.clear();
     // `largest_eigenvalue` folds over every element, so each is recorded.
-    let largest = stress::largest_eigenvalue(stress::solid_centroids(&t.solid, &t.u).map(|c| {
+    let largest = stress::largest_eigenvalue(stress::solid_centroids(&t.solid, &t.eq.u).map(|c| {
         elements.push((stress::mises(&c.stress), c.volume));
         c.strain
     }));
@@ -193,7 +193,7 @@ fn stress_and_strain(t: &Topology, s: &mut Scratch) -> (f64, f64) {
 pub fn strain_beyond(t: &Topology, limit: f64) -> Option<f64> {
     let strains = t
         .solid
-        .centroids(&t.u)
+        .centroids(&t.eq.u)
         .map(|(f, _)| 0.5 * (f + f.transpose()) - nalgebra::Matrix3::identity())
         .filter(|e| stress::largest_eigenvalue_bound(e) > limit);
     Some(stress::largest_eigenvalue(strains)).filter(|&largest| largest > limit)

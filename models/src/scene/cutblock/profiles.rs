@@ -16,6 +16,14 @@ use crate::assembly::loads;
 use crate::element::tri6;
 use crate::mesh::{Mesh3d, QuadraticMesh};
 
+/// Laser-profile stations: y = 0, 0.5, …, 90 mm in lab coordinates (the default block
+/// pulled by up to 10 mm).
+pub const PROFILE_STATIONS: usize = 181;
+/// Spacing of the profile stations (mm).
+pub const PROFILE_STEP: f64 = 0.5;
+/// The scanner lines x = 25, 50, 75 mm (seed 002 §3.5, Fig. 4.7).
+pub const PROFILE_LINES: [f64; 3] = [25.0, 50.0, 75.0];
+
 /// Sample spacing of the reference top face along x and y (mm).
 pub const SAMPLE_X: f64 = 0.25;
 pub const SAMPLE_Y: f64 = 0.1;

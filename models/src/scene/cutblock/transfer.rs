@@ -1,9 +1,9 @@
-//! Where a blade advance starts Newton's method (issue 27: it re-solves from the previous
-//! equilibrium, not from the unloaded block): the last equilibrium carried from one cut mesh
-//! to the next ([`transfer`]), or, within a cell, extrapolated along the blade's path
-//! ([`extrapolate`]).
+//! The last equilibrium carried from one cut mesh to the next, where a blade advance that
+//! changes the mesh starts Newton's method (issue 27: it re-solves from the previous
+//! equilibrium, not from the unloaded block; within a cell the path is extrapolated
+//! instead, [`super::path`]).
 //!
-//! Carried: each node of the new mesh takes the old displacement field at its reference position:
+//! Each node of the new mesh takes the old displacement field at its reference position:
 //! the old element that contains the point is found through a grid of the old mesh's node
 //! planes, and the field is evaluated with that element's shape functions (linear or
 //! quadratic). A node on the cut plane that belongs to one flank reads the field from the
@@ -13,7 +13,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::assembly::solid::{Elements, Solid};
+use crate::assembly::tetrahedra::{Elements, Solid};
 use crate::element::tet10;
 
 /// Which side of the cut plane y = y_cut a node or element lies on.
@@ -159,46 +159,10 @@ pub fn transfer(from: &Solid, u: &[f64], to: &Solid, y_cut: f64) -> Option<Vec<f
     Some(out)
 }
 
-/// How far beyond its latest point, in spacings of the latest two, a path is extrapolated.
-const REACH: f64 = 2.0;
-
-/// The displacements at blade position `x` extrapolated from equilibria `points` (blade
-/// position, displacements) of one pattern, the latest last, by the Lagrange polynomial
-/// through them (linear through two, quadratic through three): a continuation method's
-/// predictor. Within a cell the x planes slide with the front ([`super::geometry`]), so node
-/// k lies at an affine function of the blade position and the field around the tip moves
-/// with its nodes: each node's displacement is a smooth function of the blade position that
-/// the polynomial follows to third order in the step. `None` with fewer than two points, or
-/// beyond [`REACH`] spacings of the latest two (steps the samples do not support).
-pub fn extrapolate(points: &[(f64, &[f64])], x: f64) -> Option<Vec<f64>> {
-    let [.., (before, _), (latest, _)] = points else {
-        return None;
-    };
-    if (x - latest).abs() > REACH * (latest - before).abs() {
-        return None;
-    }
-    let weight = |i: usize| {
-        points
-            .iter()
-            .enumerate()
-            .filter(|&(j, _)| j != i)
-            .map(|(_, (xj, _))| (x - xj) / (points[i].0 - xj))
-            .product::<f64>()
-    };
-    let mut u = vec![0.0; points[0].1.len()];
-    for (i, (_, ui)) in points.iter().enumerate() {
-        let w = weight(i);
-        for (a, b) in u.iter_mut().zip(ui.iter()) {
-            *a += w * b;
-        }
-    }
-    Some(u)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::assembly::solid::Tetrahedron;
+    use crate::assembly::tetrahedra::Tetrahedron;
     use crate::element::{Elastic, Law, Material};
     use crate::mesh::generate::{block_on_planes, Split};
 
@@ -207,25 +171,6 @@ mod tests {
         let mesh = block_on_planes(&planes, split).unwrap();
         let material = Material::new(Law::NeoHookean, Elastic::new("m", 1.0, 0.3).unwrap());
         Solid::new(&mesh, kind, material)
-    }
-
-    /// The predictor reproduces a path that is a polynomial of its degree (linear through
-    /// two points, quadratic through three, at uneven spacings) and refuses steps beyond
-    /// its reach or without two points.
-    #[test]
-    fn extrapolation_follows_polynomial_paths_within_its_reach() {
-        let path = |x: f64| vec![1.0 + 0.5 * x - 0.25 * x * x, -2.0 * x + 0.1 * x * x];
-        let (a, b, c) = (path(10.0), path(10.5), path(11.5));
-        let quadratic = extrapolate(&[(10.0, &a), (10.5, &b), (11.5, &c)], 13.0).unwrap();
-        for (got, want) in quadratic.iter().zip(path(13.0)) {
-            assert!((got - want).abs() < 1e-12, "{got} vs {want}");
-        }
-        let line = |x: f64| vec![3.0 - 0.2 * x];
-        let (p, q) = (line(20.0), line(21.0));
-        let linear = extrapolate(&[(20.0, &p), (21.0, &q)], 22.5).unwrap();
-        assert!((linear[0] - line(22.5)[0]).abs() < 1e-13);
-        assert!(extrapolate(&[(20.0, &p), (21.0, &q)], 23.5).is_none());
-        assert!(extrapolate(&[(21.0, &q)], 22.0).is_none());
     }
 
     /// The shape functions interpolate their own polynomials exactly: a linear field

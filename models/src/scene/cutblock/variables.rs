@@ -1,7 +1,7 @@
 //! The cut block's variable table (value references, names, units, start values, ranges,
 //! descriptions) — what `modelDescription.xml` is generated from.
 
-use super::PROFILE_STATIONS;
+use super::profiles::PROFILE_STATIONS;
 use crate::scene::{memory_limit, Variability, Variable};
 
 // Value references (indices into the table built by `table`).

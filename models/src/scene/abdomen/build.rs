@@ -1,0 +1,272 @@
+//! The abdomen's full-order system, as the build makes it from the parameter values: the
+//! configuration resolved to an outline, the mesh, the per-tissue properties, the
+//! assembled stiffness, mass and damping, the supports, the equation of motion on the
+//! free dofs (with the finite-strain body at finite kinematics), the load pattern of the
+//! pressing force and the output plan. The integrator and a reduced order sit on top of
+//! it (`simulation`).
+
+use std::sync::Arc;
+
+use super::config::PelvisConfig;
+use super::discretization::{Choice, Discretization, FieldView, Recovery};
+use super::mesher;
+use super::outputs::{Field, OutputPlan};
+use super::parameters::{damping_properties, properties, subdivisions, supports};
+use super::variables::{
+    CONFIGURATION, COSTAL_MARGIN, ELEMENT, FORMULATION, GRADING, INTEGRATOR, KINEMATICS,
+    TARGET_TRIANGLES, WALL_SUPPORT,
+};
+use crate::assembly::plane::PlaneProperties;
+use crate::assembly::quadratic_plane::{PlaneBody, SharedTension};
+use crate::assembly::Dirichlet;
+use crate::linalg::Factorization;
+use crate::scene::{SceneError, Values};
+use crate::solve::{Damping, IntegratorKind, Structure};
+
+/// Line region of the diaphragm.
+pub(super) const DIAPHRAGM: u16 = 0;
+
+/// The full-order abdomen for one set of parameter values.
+pub struct FullOrder {
+    pub disc: Discretization,
+    pub props: PlaneProperties,
+    /// The stiffness at rest on all dofs (the assembler's pattern).
+    k: Vec<f64>,
+    /// The equation of motion on the free dofs.
+    pub structure: Structure,
+    /// Load vector (free dofs) of a unit pressing force ([`press_pattern`]).
+    unit_load: Vec<f64>,
+    /// The pressing force per unit active tension of the diaphragm at rest, Θ₀ (N/mm per
+    /// N/mm), and the active tension the finite-strain forces read.
+    theta: f64,
+    tension: Arc<SharedTension>,
+    /// The finite-strain body (None at linear kinematics).
+    pub body: Option<Arc<PlaneBody>>,
+    /// The dofs held fixed, and whether the abdominal wall is among them.
+    fixed: Vec<usize>,
+    fixed_wall: bool,
+    /// Stress recovery for the current properties.
+    pub recovery: Recovery,
+    /// Which outputs read which elements and nodes.
+    pub plan: OutputPlan,
+    /// The time integrator the scene steps with.
+    kind: IntegratorKind,
+}
+
+impl std::fmt::Debug for FullOrder {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FullOrder")
+            .field("triangles", &self.disc.mesh().triangles().len())
+            .field("choice", &self.disc.choice)
+            .finish()
+    }
+}
+
+impl FullOrder {
+    /// Builds the full-order system for the current parameter values.
+    pub fn build(values: &Values) -> Result<Self, SceneError> {
+        let config = PelvisConfig::resolve(values.string(CONFIGURATION)?)?;
+        let choice = Choice::parse(
+            values.string(ELEMENT)?,
+            values.string(FORMULATION)?,
+            values.string(KINEMATICS)?,
+        )?;
+        let target = values.real(TARGET_TRIANGLES) as usize;
+        let meshed = mesher::mesh(
+            &config.control_points()?,
+            target,
+            choice.element.bytes_per_triangle(),
+            subdivisions(values)?,
+            values.real(GRADING),
+        )?;
+        let disc = Discretization::new(meshed, choice);
+        let props = properties(values)?;
+        let asm = &disc.asm;
+        let (mut k, mut m, mut c) = (asm.zeros(), asm.zeros(), asm.zeros());
+        disc.stiffness(&props, &mut k);
+        disc.mass(&props, &mut m);
+        disc.mass(&damping_properties(values, &props), &mut c);
+        let lumped = disc.lumped_mass(&props);
+        let fixed = supports(
+            &disc,
+            values.string(WALL_SUPPORT)?,
+            values.string(COSTAL_MARGIN)?,
+        )?;
+        let bc = Dirichlet::new(asm, &fixed)?;
+        let tension = Arc::new(SharedTension::default());
+        let body = disc.body(&props, DIAPHRAGM, &tension).map(Arc::new);
+        let factorization = Factorization::plane(bc.n_free(), body.is_none());
+        let mut structure = Structure::new(bc, &k, &m, &lumped, Damping::NONE, factorization)?;
+        structure.set_damping_matrix(&c);
+        if let Some(body) = &body {
+            structure = structure.with_internal_forces(body.clone());
+        }
+        let (unit_load, theta) = press_pattern(&disc, &props, structure.dirichlet())?;
+        Ok(Self {
+            recovery: disc.recovery(&props),
+            plan: OutputPlan::new(disc.mesh())?,
+            kind: IntegratorKind::parse(values.string(INTEGRATOR)?)?,
+            fixed_wall: values.string(WALL_SUPPORT)? == "fixed",
+            disc,
+            props,
+            k,
+            structure,
+            unit_load,
+            theta,
+            tension,
+            body,
+            fixed,
+        })
+    }
+
+    /// Reassembles the stiffness and the finite-strain body for new properties (the
+    /// integrator must be prepared again).
+    pub fn set_properties(&mut self, props: PlaneProperties) {
+        self.disc.stiffness(&props, &mut self.k);
+        self.structure.set_stiffness(&self.k);
+        self.body = self
+            .disc
+            .body(&props, DIAPHRAGM, &self.tension)
+            .map(Arc::new);
+        if let Some(body) = &self.body {
+            self.structure.set_internal_forces(body.clone());
+        }
+        self.recovery = self.disc.recovery(&props);
+        self.props = props;
+    }
+
+    /// The displacement `u` (all dofs) with what the outputs need to read it.
+    pub fn field<'a>(&'a self, u: &'a [f64]) -> Field<'a> {
+        Field {
+            plan: &self.plan,
+            recovery: &self.recovery,
+            u,
+        }
+    }
+
+    /// The displacement `u` (all dofs) with the meshes and stresses, for drawing.
+    pub fn view<'a>(&'a self, u: &'a [f64]) -> FieldView<'a> {
+        FieldView {
+            mesh: self.disc.mesh(),
+            quadratic: self.disc.quadratic(),
+            u,
+            recovery: &self.recovery,
+        }
+    }
+
+    /// The load pattern of a unit pressing force (free dofs).
+    pub fn unit_load(&self) -> &[f64] {
+        &self.unit_load
+    }
+
+    /// The stiffness at rest (all dofs, on the assembler's pattern).
+    pub fn stiffness(&self) -> &[f64] {
+        &self.k
+    }
+
+    /// The dofs held fixed.
+    pub fn fixed(&self) -> &[usize] {
+        &self.fixed
+    }
+
+    /// Whether the abdominal wall is held.
+    pub fn fixed_wall(&self) -> bool {
+        self.fixed_wall
+    }
+
+    /// The time integrator the scene steps with.
+    pub fn kind(&self) -> IntegratorKind {
+        self.kind
+    }
+
+    /// Θ₀: the pressing force per unit active tension of the diaphragm at rest.
+    pub fn theta(&self) -> f64 {
+        self.theta
+    }
+
+    /// The diaphragm's active tension of the last step and the one its kept tangent was
+    /// taken at (N per mm of depth; 0 at linear kinematics).
+    pub fn tension(&self) -> [f64; 2] {
+        [self.tension.get(), self.tension.at_tangent()]
+    }
+
+    /// Sets the diaphragm's active tension the body reads to `tension` (N per mm of depth).
+    pub fn set_tension(&self, tension: f64) {
+        self.tension.set(tension);
+    }
+
+    /// Sets the diaphragm's active tension of a pressing force `force` (N/mm; none when
+    /// drawn out), as the load of a step does.
+    pub fn set_press(&self, force: f64) {
+        self.tension.set(force.max(0.0) / self.theta);
+    }
+
+    /// At finite kinematics, the tension the pressing load of a step sets and Θ₀; None at
+    /// linear kinematics.
+    pub fn contracting(&self) -> Option<(&SharedTension, f64)> {
+        self.disc
+            .choice
+            .finite
+            .then_some((&*self.tension, self.theta))
+    }
+
+    /// The full finite-strain structure with a diaphragm tension of its own.
+    pub(super) fn detached(&self) -> Result<Detached, SceneError> {
+        let tension = Arc::new(SharedTension::default());
+        let body = self.body_reading(&tension)?;
+        let structure = self.structure.clone().with_internal_forces(body);
+        Ok(Detached { structure, tension })
+    }
+
+    /// The finite-strain body for the current properties, its diaphragm's active tension
+    /// read from `tension`.
+    pub(super) fn body_reading(
+        &self,
+        tension: &Arc<SharedTension>,
+    ) -> Result<Arc<PlaneBody>, SceneError> {
+        self.disc
+            .body(&self.props, DIAPHRAGM, tension)
+            .map(Arc::new)
+            .ok_or_else(|| SceneError::Config("a press run needs finite kinematics".into()))
+    }
+}
+
+/// The full finite-strain structure with a diaphragm tension of its own
+/// ([`FullOrder::detached`]).
+pub(super) struct Detached {
+    pub structure: Structure,
+    pub tension: Arc<SharedTension>,
+}
+
+/// The pressing force's load pattern: the forces a contracting diaphragm exerts at rest
+/// ([`Discretization::contraction`]) per unit of their resultant on the free dofs — so that
+/// a pressing force F is F times this pattern, a resultant F into the cavity — and that
+/// resultant per unit tension, Θ₀ (the turning of the diaphragm between its supports:
+/// sin θ₁ + sin θ₂ for a dome leaving its supports at θ₁, θ₂ from the horizontal).
+fn press_pattern(
+    disc: &Discretization,
+    props: &PlaneProperties,
+    bc: &Dirichlet,
+) -> Result<(Vec<f64>, f64), SceneError> {
+    let f = disc.contraction(DIAPHRAGM, props)?;
+    let mut reduced = vec![0.0; bc.n_free()];
+    bc.reduce(&f, &mut reduced);
+    let resultant = bc
+        .free()
+        .iter()
+        .zip(&reduced)
+        .fold([0.0; 2], |mut r, (&d, x)| {
+            r[d % 2] += x;
+            r
+        });
+    let theta = resultant[0].hypot(resultant[1]);
+    if theta.is_nan() || theta <= 0.0 {
+        return Err(SceneError::Config(
+            "the diaphragm is straight between fixed supports: its contraction presses on \
+             nothing (give the dome a rise)"
+                .into(),
+        ));
+    }
+    reduced.iter_mut().for_each(|x| *x /= theta);
+    Ok((reduced, theta))
+}

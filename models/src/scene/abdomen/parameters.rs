@@ -1,0 +1,188 @@
+//! The abdomen's parameters read into what its build needs: the per-tissue properties and
+//! damping, the supports, the reduced model order and the whole-number counts. Each
+//! refusal names the parameter and its value.
+
+use super::discretization::Discretization;
+use super::variables::{
+    tissue_vr, MODEL_ORDER, MODES, SUBDIVISIONS, TISSUES, TRAINING_FREQUENCY, TRAINING_PRESS,
+    WALL_SUPPORT,
+};
+use crate::assembly::plane::{Continuum, PlaneProperties, Truss};
+use crate::element::Elastic;
+use crate::error::ModelError;
+use crate::scene::{SceneError, Values};
+use crate::solve::Reduction;
+
+/// Per-tissue properties from the current parameter values.
+pub fn properties(values: &Values) -> Result<PlaneProperties, SceneError> {
+    let v = |tissue: usize, field: u32| values.real(tissue_vr(tissue, field));
+    let continuum = Continuum {
+        elastic: Elastic::new("cavity", v(0, 0), v(0, 1))?,
+        density: v(0, 2),
+    };
+    let trusses = (1..4)
+        .map(|t| Truss::new(TISSUES[t], v(t, 0), v(t, 1), v(t, 2)))
+        .collect::<Result<_, _>>()?;
+    Ok(PlaneProperties {
+        continua: vec![continuum],
+        trusses,
+    })
+}
+
+/// Properties whose "density" is α_t ρ_t: their mass matrix is the damping matrix.
+pub(super) fn damping_properties(values: &Values, props: &PlaneProperties) -> PlaneProperties {
+    let alpha = |t: usize| values.real(tissue_vr(t, 3));
+    let mut d = props.clone();
+    d.continua[0].density *= alpha(0);
+    for (i, truss) in d.trusses.iter_mut().enumerate() {
+        truss.density *= alpha(i + 1);
+    }
+    d
+}
+
+/// The dofs held fixed: spine and pelvic bone, the abdominal wall when `wall` is `fixed`,
+/// and the costal margin (the node where wall and diaphragm meet) when `margin` is.
+pub(super) fn supports(
+    disc: &Discretization,
+    wall: &str,
+    margin: &str,
+) -> Result<Vec<usize>, SceneError> {
+    let mut supported = vec!["spine", "pelvic_bone"];
+    match wall {
+        "free" => {}
+        "fixed" => supported.push("abdominal_wall"),
+        other => return Err(wall_error(other)),
+    }
+    let mut fixed = Vec::new();
+    for set in supported {
+        fixed.extend(disc.boundary_dofs(set)?);
+    }
+    match margin {
+        "free" => {}
+        "fixed" => {
+            let sets = disc.mesh().node_sets();
+            let wall = sets.get("abdominal_wall")?;
+            let diaphragm = sets.get("diaphragm")?;
+            fixed.extend(
+                diaphragm
+                    .iter()
+                    .filter(|n| wall.contains(n))
+                    .flat_map(|n| [2 * n, 2 * n + 1]),
+            );
+        }
+        other => return Err(margin_error(other)),
+    }
+    Ok(fixed)
+}
+
+/// The error for a `costal_margin` value other than `fixed` or `free`.
+pub fn margin_error(value: &str) -> SceneError {
+    ModelError::unknown("costal_margin", value, "fixed or free").into()
+}
+
+/// A whole-number parameter (`modes`, `mesh_subdivisions`); a fractional value is refused.
+fn whole(values: &Values, vr: u32, name: &str, reason: &'static str) -> Result<usize, SceneError> {
+    let x = values.real(vr);
+    if x.fract() != 0.0 {
+        return Err(SceneError::Model(ModelError::InvalidParameter {
+            name: name.into(),
+            value: x,
+            reason,
+        }));
+    }
+    Ok(x as usize)
+}
+
+/// The `modes` parameter as a count.
+pub(super) fn modes(values: &Values) -> Result<usize, SceneError> {
+    whole(
+        values,
+        MODES,
+        "modes",
+        "must be a whole number of basis vectors",
+    )
+}
+
+/// The number of `mesh_subdivisions`, a whole number.
+pub(super) fn subdivisions(values: &Values) -> Result<u32, SceneError> {
+    let n = whole(
+        values,
+        SUBDIVISIONS,
+        "mesh_subdivisions",
+        "must be a whole number of subdivisions",
+    )?;
+    Ok(n as u32)
+}
+
+/// Refuses a `model_order` (`value`, read as `order`) that the kinematics do not allow:
+/// the modal bases reduce the linear model, the hyper-reduced model the finite-strain one.
+pub fn order_allows(
+    value: &str,
+    order: Option<ReducedOrder>,
+    finite: bool,
+) -> Result<(), SceneError> {
+    let message = match (order, finite) {
+        (Some(ReducedOrder::Modal(_)), true) => format!(
+            "model_order = \"{value}\" reduces the linear model: use kinematics = \"linear\" \
+             (at finite strain model_order = \"reduced\" is the reduced model)"
+        ),
+        (Some(ReducedOrder::Hyper), false) => format!(
+            "model_order = \"{value}\" is the hyper-reduced finite-strain model: use \
+             kinematics = \"finite\" (at linear kinematics model_order = \"modal\" is the \
+             reduced model)"
+        ),
+        _ => return Ok(()),
+    };
+    Err(SceneError::Config(message))
+}
+
+/// A reduced `model_order`: a modal basis of the linear model, or the hyper-reduced
+/// finite-strain model trained at initialization (`training`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ReducedOrder {
+    Modal(Reduction),
+    Hyper,
+}
+
+/// The reduced order of a `model_order` value: `None` for `full`.
+pub fn order(value: &str) -> Result<Option<ReducedOrder>, SceneError> {
+    match value {
+        "full" => Ok(None),
+        "modal" => Ok(Some(ReducedOrder::Modal(Reduction::Ritz))),
+        "eigenmodes" => Ok(Some(ReducedOrder::Modal(Reduction::Eigenmodes))),
+        "eigenmodes_truncated" => Ok(Some(ReducedOrder::Modal(Reduction::Truncated))),
+        "reduced" => Ok(Some(ReducedOrder::Hyper)),
+        other => Err(ModelError::unknown(
+            "model_order",
+            other,
+            "full, modal, eigenmodes, eigenmodes_truncated or reduced",
+        )
+        .into()),
+    }
+}
+
+/// The error for an `abdominal_wall` value other than `free` or `fixed`.
+pub fn wall_error(value: &str) -> SceneError {
+    ModelError::unknown("abdominal_wall", value, "free or fixed").into()
+}
+
+/// Why the parameter `vr` cannot act under the present values, if it cannot: the wall's
+/// properties with the wall held (every node of it is), the training range of a model that
+/// is not trained, the basis size of the full order.
+pub fn inert(values: &Values, vr: u32) -> Option<&'static str> {
+    let wall = (tissue_vr(2, 0)..=tissue_vr(2, 3)).contains(&vr);
+    if wall && values.string(WALL_SUPPORT).is_ok_and(|w| w == "fixed") {
+        return Some(
+            "abdominal_wall = \"fixed\" holds every node of the wall, so its properties act \
+             only with abdominal_wall = \"free\"",
+        );
+    }
+    let order = values.string(MODEL_ORDER).unwrap_or("full");
+    if (vr == TRAINING_PRESS || vr == TRAINING_FREQUENCY) && order != "reduced" {
+        return Some("only the hyper-reduced model (model_order = \"reduced\") is trained");
+    }
+    if vr == MODES && order == "full" {
+        return Some("the full order has no basis: modes acts with a reduced model_order");
+    }
+    None
+}
