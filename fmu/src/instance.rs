@@ -22,7 +22,7 @@ use models::scene::{Causality, ErrorKind, Scene, SceneError, Variable, VariableK
 
 use crate::addressing::{Addressing, Resolved};
 use crate::exports::{Export, Version};
-use crate::machine::{Call, Phase, Status};
+use crate::machine::{refused_step, Call, Phase, Status};
 use crate::state::{FmuState, InstanceState};
 
 /// The logger: (status, category, message).
@@ -307,7 +307,7 @@ impl Instance {
 
     /// Advances to exactly `current + h`.
     pub fn do_step(&mut self, current: f64, h: f64) -> Status {
-        if let Some(why) = self.refused_step(current, h) {
+        if let Some(why) = refused_step(self.time, self.stop_time, current, h) {
             return self.error(Status::Error, &why);
         }
         match self.scene.do_step(current, h) {
@@ -319,35 +319,6 @@ impl Instance {
                 self.phase = Phase::Error;
                 self.fail(&e)
             }
-        }
-    }
-
-    /// Why a step from `current` by `h` is refused, if it is: a time or size that is not
-    /// finite (and positive), a time other than the instance's, a step past the stop time.
-    fn refused_step(&self, current: f64, h: f64) -> Option<String> {
-        let tolerance = 1e-9 * current.abs().max(h).max(1.0);
-        if !current.is_finite() {
-            Some(format!(
-                "currentCommunicationPoint = {current} s is not finite"
-            ))
-        } else if !(h.is_finite() && h > 0.0) {
-            Some(format!(
-                "communicationStepSize = {h} s must be finite and > 0"
-            ))
-        } else if (current - self.time).abs() > tolerance {
-            Some(format!(
-                "currentCommunicationPoint {} s does not match the instance time {} s",
-                seconds(current),
-                seconds(self.time)
-            ))
-        } else {
-            let stop = self.stop_time.filter(|&s| current + h > s + tolerance)?;
-            Some(format!(
-                "a step from t = {} s by {} s would pass the stop time {} s the importer set",
-                seconds(current),
-                seconds(h),
-                seconds(stop)
-            ))
         }
     }
 

@@ -1,7 +1,10 @@
 //! The FMI state machine, apart from the instance that runs it: the status a call returns,
 //! the phases of an instance's life cycle, the calls the machine distinguishes and in which
 //! phases the standard allows each (FMI 2.0 §4.2.4; FMI 3.0 §4.2 co-simulation without
-//! event mode). The instance checks every call here; its saved states record the phase.
+//! event mode), and which step times and sizes it allows. The instance checks every call
+//! here; its saved states record the phase.
+
+use models::error::seconds;
 
 use crate::exports::Version;
 
@@ -95,5 +98,36 @@ impl Call {
             Call::Terminate => matches!(phase, Step | Error),
             Call::Reset | Call::SetDebugLogging | Call::State => true,
         }
+    }
+}
+
+/// Why a step from `current` by `h` is refused, if it is, for an instance at `time` with the
+/// importer's `stop` time: a time or size that is not finite (and positive), a time other
+/// than the instance's (`fmi2DoStep` / `fmi3DoStep` must start at it), a step past the
+/// stop time.
+pub fn refused_step(time: f64, stop: Option<f64>, current: f64, h: f64) -> Option<String> {
+    let tolerance = 1e-9 * current.abs().max(h).max(1.0);
+    if !current.is_finite() {
+        Some(format!(
+            "currentCommunicationPoint = {current} s is not finite"
+        ))
+    } else if !(h.is_finite() && h > 0.0) {
+        Some(format!(
+            "communicationStepSize = {h} s must be finite and > 0"
+        ))
+    } else if (current - time).abs() > tolerance {
+        Some(format!(
+            "currentCommunicationPoint {} s does not match the instance time {} s",
+            seconds(current),
+            seconds(time)
+        ))
+    } else {
+        let stop = stop.filter(|&s| current + h > s + tolerance)?;
+        Some(format!(
+            "a step from t = {} s by {} s would pass the stop time {} s the importer set",
+            seconds(current),
+            seconds(h),
+            seconds(stop)
+        ))
     }
 }

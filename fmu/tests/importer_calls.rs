@@ -1,6 +1,6 @@
 //! Calls the standard allows an importer, through the C ABI in FMI 2 and FMI 3, both models:
-//! a step from a time that is not finite, or by a size that is not finite and positive, is
-//! refused with Error and the instance steps on; a step far below the model's step leaves
+//! a step from a time that is not finite, or by a size that is not finite and positive, and
+//! a value out of range or not finite, are refused with Error and the instance steps on; a step far below the model's step leaves
 //! the steps after it as they were; two identical runs serialize to identical bytes; and a
 //! parameter that cannot act under the present settings returns Warning, where the default
 //! run returns OK.
@@ -48,6 +48,49 @@ fn a_step_from_a_time_that_is_not_finite_is_refused_and_the_run_goes_on() {
     for what in [
         "currentCommunicationPoint = NaN s is not finite",
         "communicationStepSize = 0 s must be finite and > 0",
+    ] {
+        assert!(said.contains(what), "{what}: {said}");
+    }
+}
+
+/// Bad values through the C ABI: a stiffness of 0, below 0, NaN or +inf before and after
+/// initialization, and the run's first (fixed) parameter after it, are each Error; the
+/// instance goes on as if they had not been made.
+fn bad_values_are_refused<A: Abi>(run: &Run, stiffness: &str) {
+    let plain = A::instantiate(run);
+    A::initialize(plain, run);
+    let expected = steps::<A>(plain, run, 0, 2);
+    let bad = [0.0, -1.0, f64::NAN, f64::INFINITY];
+    let c = A::instantiate(run);
+    for x in bad {
+        assert_eq!(A::set(c, run, stiffness, x), ERROR, "{stiffness} = {x}");
+    }
+    A::initialize(c, run);
+    for x in bad {
+        assert_eq!(A::set(c, run, stiffness, x), ERROR, "{stiffness} = {x}");
+    }
+    let (fixed, value) = run.parameters[0];
+    assert_eq!(
+        A::set(c, run, fixed, value + 1.0),
+        ERROR,
+        "{fixed} after initialization"
+    );
+    assert_eq!(steps::<A>(c, run, 0, 2), expected);
+    A::free(c);
+    A::free(plain);
+}
+
+#[test]
+fn bad_values_are_refused_by_name_in_both_models() {
+    for (run, stiffness) in [(&CUTBLOCK, "E"), (&ABDOMEN, "floor_E")] {
+        bad_values_are_refused::<Fmi2>(run, stiffness);
+        bad_values_are_refused::<Fmi3>(run, stiffness);
+    }
+    let said = ERRORS.lock().unwrap().join("\n");
+    for what in [
+        "for `E` is out of range",
+        "for `floor_E` is out of range",
+        "`target_triangles`",
     ] {
         assert!(said.contains(what), "{what}: {said}");
     }
