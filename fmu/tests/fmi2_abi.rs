@@ -445,10 +445,9 @@ fn random_call_sequences_never_crash() {
             }
         };
         // OK, Warning or Error: nothing here may be fatal, and no step is discarded.
+        // (A step from a time that is not finite, in the phase where steps are allowed:
+        // `importer_calls.rs`.)
         assert!([OK, WARNING, ERROR].contains(&status), "status {status}");
-        if call == 4 && x.is_nan() {
-            assert_eq!(status, ERROR, "a step from time NaN");
-        }
     }
     unsafe { fmi2FreeInstance(c) };
 }

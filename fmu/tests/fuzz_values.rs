@@ -6,10 +6,13 @@
 //!   minimum, its maximum and its start value (string parameters: every choice), from the
 //!   defaults and from the other kinematics or law. The set returns OK or Warning; the
 //!   instance is initialized, stepped three times with every output read after each step
-//!   (once at the largest mesh, [`MESH_SIZES`]) and freed. What the model cannot take is
-//!   refused with Error (memory_limit, substeps, Newton increments, a configuration file
-//!   that does not exist); after an Error the instance still answers reads and refuses
-//!   steps; Fatal and Discard are never returned.
+//!   (once at the largest mesh, [`MESH_SIZES`]) and freed. Every call returns OK or
+//!   Warning, except where the values describe no model (the scene's own check, run in
+//!   process on the same values, refuses them: a configuration file that does not exist,
+//!   a model order the kinematics do not allow), where the initialization returns Error,
+//!   and the cases listed in [`LIMITS`], where a step or the initialization may return
+//!   Error; after an Error the instance still answers reads and refuses steps; Fatal and
+//!   Discard are never returned.
 //! - **refused** (`refused::…`), through the instance core the ABI calls: each settable
 //!   variable below its minimum, above its maximum, NaN, +∞ and −∞ (string parameters: a
 //!   choice that does not exist). Each set returns Error with a message naming the
@@ -175,9 +178,112 @@ fn vr(model: usize, name: &str) -> fmi2ValueReference {
         .unwrap() as u32
 }
 
-/// The statuses the standard lets these calls return here.
-fn allowed(s: fmi2Status) -> bool {
-    matches!(s, OK | WARNING | ERROR)
+/// In-range values whose run ends in Error although the scene's check accepts them, with
+/// why (the scene's message): (model, variable, value as the trial names it, why). Every
+/// other in-range case returns only OK or Warning. Two are defects this fuzz found and
+/// this list records rather than hides: the cut block's `mesh_grading` at the top of its
+/// range builds a degenerate element, and the abdomen's finite-strain static start under a
+/// press of ±1000 N/mm meets an exactly zero pivot.
+const LIMITS: &[(&str, &str, &str, &str)] = &[
+    (
+        "abdomen",
+        "max_step",
+        "1e-8",
+        "a 10 ms step needs more substeps than MAX_SUBSTEPS",
+    ),
+    ("abdomen", "memory_limit", "1e0", "the build is above 1 MB"),
+    (
+        "abdomen",
+        "target_triangles",
+        "5e5",
+        "the build is above the default memory_limit",
+    ),
+    (
+        "abdomen",
+        "press_force",
+        "1e3",
+        "defect: no static start, zero pivot at 0.4 % of the press",
+    ),
+    (
+        "abdomen",
+        "press_force",
+        "-1e3",
+        "defect: no static start, zero pivot at 0.4 % of the press",
+    ),
+    (
+        "abdomen",
+        "integrator",
+        "rk4",
+        "explicit: unstable at 10 ms (limit 9.3e-6 s), said by name",
+    ),
+    (
+        "abdomen",
+        "integrator",
+        "central_difference",
+        "explicit: unstable at 10 ms, said by name",
+    ),
+    ("cutblock", "memory_limit", "1e0", "the build is above 1 MB"),
+    (
+        "cutblock",
+        "cells_x",
+        "4e2",
+        "the factor would take 15 GB, above the default memory_limit",
+    ),
+    (
+        "cutblock",
+        "mesh_grading",
+        "4e0",
+        "defect: element 0 degenerate (volume 9.3e-7 mm³)",
+    ),
+    (
+        "cutblock",
+        "press_force",
+        "1e6",
+        "a million newtons inverts the elements under the blade",
+    ),
+    (
+        "cutblock",
+        "size_x",
+        "1e-3",
+        "a block 1 µm long: a pivot 1.9e-11 of its diagonal",
+    ),
+    (
+        "cutblock",
+        "size_z",
+        "1e-3",
+        "a block 1 µm high: a pivot 3.6e-12 of its diagonal",
+    ),
+];
+
+/// Whether the scene's own check refuses the case's values before any work (a
+/// configuration error: the initialization must then return Error).
+fn refused_by_check(case: &InRange) -> bool {
+    let mut scene = (EXPORTS[case.model].create)();
+    let mut set = |name: &str, value: &Value| {
+        let vr = scene.lookup(name).expect("a declared variable");
+        match value {
+            Value::Real(x) => scene.set_real(vr, &[*x]),
+            Value::Text(s) => scene.set_string(vr, s),
+        }
+        .expect("an in-range value is accepted when set")
+    };
+    if let Some((name, value)) = case.base {
+        set(name, &Value::Text(value));
+    }
+    set(&case.name, &case.value);
+    scene.check().is_err()
+}
+
+/// Whether the case is one of [`LIMITS`].
+fn at_a_limit(case: &InRange) -> bool {
+    let model = EXPORTS[case.model].identifier;
+    let value = match &case.value {
+        Value::Real(x) => format!("{x:e}"),
+        Value::Text(s) => s.to_string(),
+    };
+    LIMITS
+        .iter()
+        .any(|&(m, name, v, _)| m == model && name == case.name && v == value)
 }
 
 /// Runs an in-range case through the C ABI; fails on a status the standard does not allow
@@ -228,19 +334,33 @@ fn in_range(case: &InRange) -> Result<(), Failed> {
         .filter(|(_, s)| scene.variables()[s.scene_vr as usize].causality == Causality::Output)
         .map(|(k, _)| k as u32)
         .collect();
-    let mut failed = statuses[3] == ERROR;
-    for k in 0..case.steps {
+    let (refused, at_limit) = (refused_by_check(case), at_a_limit(case));
+    let init_failed = statuses[3] == ERROR;
+    if refused != init_failed && !(init_failed && at_limit) {
+        let said = if refused { "refuses" } else { "accepts" };
+        return Err(format!(
+            "the scene's check {said} the values, the initialization returned {statuses:?}"
+        )
+        .into());
+    }
+    let mut failed = init_failed;
+    let mut time = 0.0;
+    for _ in 0..case.steps {
         if !failed {
-            let s = unsafe { fmi2DoStep(c, f64::from(k) * h, h, 1) };
+            let s = unsafe { fmi2DoStep(c, time, h, 1) };
             statuses.push(s);
             failed = s == ERROR;
+            if !failed {
+                time += h;
+            }
         }
         let mut values = vec![0.0; outputs.len()];
         let s = unsafe { fmi2GetReal(c, outputs.as_ptr(), outputs.len(), values.as_mut_ptr()) };
         statuses.push(s);
         if failed {
-            // After an error: reads are answered (or refused), steps refused, free works.
-            let step = unsafe { fmi2DoStep(c, 0.0, h, 1) };
+            // After an error: reads are answered (or refused), a step from the instance's
+            // time is refused, free works.
+            let step = unsafe { fmi2DoStep(c, time, h, 1) };
             if step != ERROR {
                 return Err(format!("a step after an error returned {step}").into());
             }
@@ -248,7 +368,11 @@ fn in_range(case: &InRange) -> Result<(), Failed> {
         }
     }
     unsafe { fmi2FreeInstance(c) };
-    match statuses.iter().all(|&s| allowed(s)) {
+    // Error only where the check refused the values (at the initialization) or at a
+    // listed limit; reads after an Error may be refused too.
+    let errors_allowed = refused || at_limit;
+    let fine = |s: fmi2Status| matches!(s, OK | WARNING) || (errors_allowed && s == ERROR);
+    match statuses.iter().all(|&s| fine(s)) {
         true => Ok(()),
         false => Err(format!("statuses {statuses:?}").into()),
     }
@@ -335,8 +459,10 @@ fn trials() -> Vec<Trial> {
                     out.push(Trial::test(name, move || in_range(&case)));
                 }
             }
-            let name = format!("refused::{}::{}", m.identifier, v.name);
-            out.push(Trial::test(name, move || refused(model, &v)));
+            if !refused_values(model, &v).is_empty() {
+                let name = format!("refused::{}::{}", m.identifier, v.name);
+                out.push(Trial::test(name, move || refused(model, &v)));
+            }
         }
     }
     out

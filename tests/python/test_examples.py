@@ -142,6 +142,20 @@ def test_identify_specimen_documented_invocations(tmp_path):
                   "linear", "--element", "tet4", "--out", "fast", "--harness", str(HARNESS),
                   cwd=tmp_path)
     assert "nu = 0.43 (given)" in out, out
+    # E alone at a given ν is the least-squares slope of the measured forces on the model's
+    # forces at E = 1 (linear law: proportional to E), here from the in-process scene.
+    measured = np.loadtxt(data / "force_displacement_A.csv", delimiter=",", skiprows=1)
+    table = tmp_path / "pulls.csv"
+    with open(table, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["time", "pull"])
+        for k, d in enumerate(measured[:, 0]):
+            w.writerow([k, repr(float(d))])
+    unit = simulate("cutblock", float(len(measured)), 1.0,
+                    {"material": "linear", "element": "tet4", "E": "1.0", "nu": "0.43",
+                     "scalpel_x": 100.0}, ["reaction_force"], table)[1:, 1]
+    slope = np.dot(unit, measured[:, 1]) / np.dot(unit, unit)
+    assert abs(number(out, "E") - slope) <= 1e-9 * slope, (out, slope)
 
 
 def test_identify_specimen_reports_the_residual_of_its_own_fit(tmp_path):

@@ -235,6 +235,14 @@ fn a_basis_carries_the_state_it_is_given() {
     // The state, its sequence of 4 and the load's pattern (the Krylov basis starts from
     // K⁻¹f, not f): at most 9 more columns.
     assert!((5..=13).contains(&basis.dim()), "{}", basis.dim());
+    // A zero vector and its (empty) sequence add nothing: carrying only zeros gives the
+    // load's basis.
+    let zeros = Carried {
+        vibrating: [&still, &still],
+        others: vec![],
+    };
+    let nothing = ModalBasis::new(&s, Reduction::Ritz, 4, &f, Some(&zeros)).unwrap();
+    assert_eq!(nothing.dim(), plain.dim());
     let back = |b: &ModalBasis| {
         let mut q = vec![0.0; b.dim()];
         b.coordinates(s.mass(), &state, &mut q);

@@ -83,7 +83,7 @@ mod tests {
     use super::*;
 
     /// Increments of a quarter, one failure at the second: the change goes 0, ¼, then ⅛
-    /// twice at the cut-back size, then back to a quarter; a change that keeps failing
+    /// (the cut-back size), then a quarter again; a change that keeps failing
     /// gives up after its cut-backs, having reached what succeeded.
     #[test]
     fn a_failed_increment_is_halved_and_the_next_ones_grow_back() {
