@@ -180,10 +180,9 @@ fn vr(model: usize, name: &str) -> fmi2ValueReference {
 
 /// In-range values whose run ends in Error although the scene's check accepts them, with
 /// why (the scene's message): (model, variable, value as the trial names it, why). Every
-/// other in-range case returns only OK or Warning. Two are defects this fuzz found and
+/// other in-range case returns only OK or Warning. One is a defect this fuzz found and
 /// this list records rather than hides: the cut block's `mesh_grading` at the top of its
-/// range builds a degenerate element, and the abdomen's finite-strain static start under a
-/// press of ±1000 N/mm meets an exactly zero pivot.
+/// range builds a degenerate element.
 const LIMITS: &[(&str, &str, &str, &str)] = &[
     (
         "abdomen",

@@ -65,6 +65,10 @@ pub struct Checkpoint {
     pub single_precision: bool,
 }
 
+/// Multiples σ of the tangent at rest added to a tangent that is not positive definite,
+/// tried in turn ([`Bound::shifted`]).
+const SHIFTS: [f64; 5] = [1e-2, 1e-1, 1.0, 10.0, 100.0];
+
 /// A Newton–Raphson solver of nonlinear statics for one pattern and one set of constrained
 /// dofs.
 pub struct Newton {
@@ -84,6 +88,9 @@ struct Core {
     /// Full tangent and its free–free part.
     k: Vec<f64>,
     reduced: Vec<f64>,
+    /// The tangent at rest (u = 0, no load; full pattern), assembled the first time a
+    /// tangent is not positive definite ([`SHIFTS`]); empty until then.
+    at_rest: Vec<f64>,
     /// Internal forces at the last evaluation, and the state evaluated (all dofs).
     f: Vec<f64>,
     at: Vec<f64>,
@@ -147,6 +154,7 @@ impl Newton {
         let c = &mut self.core;
         c.factorized = false;
         c.chol.invalidate();
+        c.at_rest.clear();
         for v in [
             &mut c.factored_at,
             &mut c.k,
@@ -193,6 +201,7 @@ impl Newton {
                 factored_at: full(),
                 k: vec![0.0; nnz],
                 reduced: vec![0.0; bc.nnz()],
+                at_rest: Vec::new(),
                 f: full(),
                 at: full(),
                 converged: full(),
@@ -431,16 +440,45 @@ impl<E: InternalForces + ?Sized> Bound<'_, E> {
         let start = Instant::now();
         c.bc.combine(&[(1.0, &c.k)], &mut c.reduced);
         let matrix = c.bc.matrix(&c.reduced);
-        let factorized = if exact {
+        let mut factorized = if exact {
             c.chol.factorize_exact(matrix)
         } else {
             c.chol.factorize(matrix)
         };
+        if let Err(ModelError::Singular { .. }) = factorized {
+            factorized = factorized.or_else(|e| self.shifted(e));
+        }
+        let c = &mut *self.core;
         c.report.factorization += start.elapsed();
         c.report.factorizations += 1;
         c.factorized = factorized.is_ok();
         c.factored_at.copy_from_slice(&c.at);
         factorized.map(|()| !c.chol.in_single())
+    }
+
+    /// Factorizes K_T + σ K₀ for the first σ of [`SHIFTS`] whose factorization succeeds
+    /// (K₀ the tangent at rest, positive definite where the supports hold the body), after
+    /// `failed`, the factorization of K_T alone: Newton's iterations go on from an
+    /// indefinite tangent (slack membranes' negative geometric stiffness outweighing the
+    /// contents' on a fine graded mesh) towards the same equilibrium, the residual being
+    /// exact. A floating body stays singular with every shift: `failed` is returned.
+    fn shifted(&mut self, failed: ModelError) -> Result<(), ModelError> {
+        let c = &mut *self.core;
+        if c.at_rest.is_empty() {
+            let (rest, mut f) = (vec![0.0; c.at.len()], vec![0.0; c.f.len()]);
+            c.at_rest = vec![0.0; c.k.len()];
+            self.eq.at_load_fraction(0.0);
+            let assembled = self.eq.internal(&rest, &mut f, Some(&mut c.at_rest));
+            self.eq.at_load_fraction(c.s);
+            assembled?;
+        }
+        for sigma in SHIFTS {
+            c.bc.combine(&[(1.0, &c.k), (sigma, &c.at_rest)], &mut c.reduced);
+            if c.chol.factorize_exact(c.bc.matrix(&c.reduced)).is_ok() {
+                return Ok(());
+            }
+        }
+        Err(failed)
     }
 
     /// The linearized predictor: `at` (the converged state on entry) moves by
