@@ -554,3 +554,37 @@ fn a_model_above_the_memory_limit_is_refused_before_it_is_built() {
         "{e}"
     );
 }
+
+/// A change of `press_frequency` between steps goes on from the press's phase at that time
+/// (issue 53): the press stays continuous, and the step after the change advances the phase
+/// at the new frequency, F = A(1 − cos(2π(0.5 · 0.3 + 2 · 0.01)))/2; the phase 2πft of the
+/// new frequency on the caller's time would have jumped the press from 0.16 to 0.69 N/mm.
+/// A checkpoint taken after the change goes on the same, bit for bit.
+#[test]
+fn a_frequency_change_keeps_the_press_continuous() {
+    let mut s = scene(&[("kinematics", "linear")], &[("target_triangles", 300.0)]);
+    for i in 0..30 {
+        s.do_step(f64::from(i) * 0.01, 0.01).unwrap();
+    }
+    let amplitude = 0.8;
+    let press = |phase: f64| amplitude * 0.5 * (1.0 - phase.cos());
+    let tau = 2.0 * std::f64::consts::PI;
+    let before = s.get("press_total").unwrap();
+    assert!((before - press(tau * 0.5 * 0.3)).abs() < 1e-12, "{before}");
+    s.set("press_frequency", 2.0).unwrap();
+    let saved = s.save();
+    s.do_step(0.3, 0.01).unwrap();
+    let after = s.get("press_total").unwrap();
+    let expected = press(tau * (0.5 * 0.3 + 2.0 * 0.01));
+    assert!((after - expected).abs() < 1e-12, "{after} vs {expected}");
+    assert!((press(tau * 2.0 * 0.31) - expected).abs() > 0.25);
+    let mut restored = Abdomen::new();
+    restored.restore(&saved).unwrap();
+    restored.do_step(0.3, 0.01).unwrap();
+    assert_eq!(
+        restored.get("press_total").unwrap().to_bits(),
+        after.to_bits()
+    );
+    let floor = |s: &mut Abdomen| s.get("floor_stress_max").unwrap().to_bits();
+    assert_eq!(floor(&mut restored), floor(&mut s));
+}

@@ -428,19 +428,6 @@ impl FieldView<'_> {
             .collect()
     }
 
-    /// The contents' mean pressure, −(σ_xx + σ_yy + σ_zz)/3 at the triangles' centroids
-    /// weighted by their (corner) areas (MPa): the model's intra-abdominal pressure.
-    pub fn mean_pressure(&self) -> f64 {
-        let (mut sum, mut area) = (0.0, 0.0);
-        for i in 0..self.mesh.triangles().len() {
-            let a = tri3::signed_area(&self.mesh.triangle(i));
-            let s = self.recovery.triangle(i, self.u);
-            sum -= a * (s.xx + s.yy + s.zz) / 3.0;
-            area += a;
-        }
-        sum / area
-    }
-
     /// The axial stress of every line element.
     pub fn line_stresses(&self) -> Vec<f64> {
         (0..self.mesh.lines().len())

@@ -33,9 +33,9 @@ use mesher::Meshed;
 use parameters::properties;
 use simulation::Simulation;
 use variables::{
-    table, COSTAL_MARGIN, ELEMENT, ERROR_INDICATOR, FIRST_OUTPUT, FORMULATION, INTEGRATOR,
-    KINEMATICS, MAX_STEP, MEMORY_LIMIT, MODEL_ORDER, PRESS_AMPLITUDE, PRESS_FORCE, PRESS_FREQUENCY,
-    TISSUE_BASE, WALL_SUPPORT,
+    table, CAVITY_PRESSURE, COSTAL_MARGIN, ELEMENT, ERROR_INDICATOR, FIRST_OUTPUT, FORMULATION,
+    INTEGRATOR, KINEMATICS, MAX_STEP, MEMORY_LIMIT, MODEL_ORDER, PRESS_AMPLITUDE, PRESS_FORCE,
+    PRESS_FREQUENCY, TISSUE_BASE, WALL_SUPPORT,
 };
 
 use super::{
@@ -73,6 +73,8 @@ pub struct Abdomen {
     time: f64,
     /// The time the state lags behind `time` after steps too short to integrate (s).
     lag: f64,
+    /// Where the press's phase was last set: (time in s, phase in rad); see [`Press`].
+    phase_origin: [f64; 2],
     /// Warnings not yet taken, and whether the strain warning was given in this run.
     warnings: Vec<String>,
     warned_validity: bool,
@@ -97,6 +99,7 @@ impl Abdomen {
             applied: None,
             time: 0.0,
             lag: 0.0,
+            phase_origin: [0.0; 2],
             warnings: Vec::new(),
             warned_validity: false,
             inert: Inert::default(),
@@ -175,7 +178,7 @@ impl Abdomen {
         self.warnings.clear();
         let inert = self.inert.check_all(&self.values, parameters::inert);
         self.warnings.extend(inert);
-        let press = self.pressing();
+        let press = self.run_press();
         let dt = self.values.real(MAX_STEP);
         let m = self
             .sim
@@ -186,6 +189,7 @@ impl Abdomen {
         m.start(start_time, dt, |t| press.at(t))?;
         self.time = start_time;
         self.lag = 0.0;
+        self.phase_origin = [0.0; 2];
         self.outputs = None;
         self.warned_validity = false;
         self.check_validity();
@@ -222,8 +226,9 @@ impl Abdomen {
         stepping::static_displacement(&self.built("static_displacement")?.full, force)
     }
 
-    /// The outputs (table order, from `floor_stress_mean` on) for a displacement field of all
-    /// dofs, e.g. one from [`Abdomen::static_displacement`].
+    /// The outputs (table order from `floor_stress_mean` to `press_total`, then
+    /// `cavity_pressure`) for a displacement field of all dofs, e.g. one from
+    /// [`Abdomen::static_displacement`].
     pub fn evaluate(&self, u_full: &[f64], press: f64) -> Result<Vec<f64>, SceneError> {
         self.view(u_full)?;
         let m = self.built("evaluate")?;
@@ -237,6 +242,15 @@ impl Abdomen {
             force: self.values.real(PRESS_FORCE),
             amplitude: self.values.real(PRESS_AMPLITUDE),
             frequency: self.values.real(PRESS_FREQUENCY),
+            origin: self.phase_origin,
+        }
+    }
+
+    /// The press of a run from its start: the phase 2πft on the caller's time.
+    fn run_press(&self) -> Press {
+        Press {
+            origin: [0.0; 2],
+            ..self.pressing()
         }
     }
 
@@ -244,7 +258,7 @@ impl Abdomen {
     /// force there.
     fn started(&self, start_time: f64) -> Result<Simulation, SceneError> {
         let mut sim = Simulation::build(&self.values)?;
-        let press = self.pressing();
+        let press = self.run_press();
         sim.start(start_time, self.values.real(MAX_STEP), |t| press.at(t))?;
         Ok(sim)
     }
@@ -305,20 +319,29 @@ impl Abdomen {
 }
 
 /// The pressing force on the diaphragm (N per mm of depth): F(t) = force + amplitude ·
-/// (1 − cos(2π · frequency · t)) / 2, presses from rest to `amplitude` and back
-/// (issue 26; seed 003's sinusoid also pulled half of the time, which the contracting
-/// diaphragm of finite strain cannot).
+/// (1 − cos φ(t)) / 2, presses from rest to `amplitude` and back (issue 26; seed 003's
+/// sinusoid also pulled half of the time, which the contracting diaphragm of finite strain
+/// cannot). The phase φ(t) = φ₀ + 2π · frequency · (t − t₀) runs from the `origin` (t₀, φ₀):
+/// (0, 0) for a run, so that φ = 2πft on the caller's time, and moved to the time of each
+/// change of `press_frequency`, so that the press goes on continuously at the new frequency
+/// (seed 003 changes amplitude and frequency at run time; issue 53).
 #[derive(Debug, Clone, Copy)]
 struct Press {
     force: f64,
     amplitude: f64,
     frequency: f64,
+    origin: [f64; 2],
 }
 
 impl Press {
     fn at(self, t: f64) -> f64 {
-        let phase = 2.0 * std::f64::consts::PI * self.frequency * t;
-        self.force + self.amplitude * 0.5 * (1.0 - phase.cos())
+        self.force + self.amplitude * 0.5 * (1.0 - self.phase(t).cos())
+    }
+
+    /// The phase φ(t) (rad).
+    fn phase(self, t: f64) -> f64 {
+        let [t0, phi0] = self.origin;
+        phi0 + 2.0 * std::f64::consts::PI * self.frequency * (t - t0)
     }
 
     /// The least and the largest force of the press.
@@ -372,9 +395,13 @@ impl Scene for Abdomen {
     /// of a parameter that cannot act there is warned of, once per run.
     fn set_real(&mut self, vr: u32, values: &[f64]) -> Result<(), SceneError> {
         let old = self.values.real(vr);
+        let phase = self.pressing().phase(self.time);
         self.values.set_real(vr, values)?;
         if old == values[0] {
             return Ok(());
+        }
+        if vr == PRESS_FREQUENCY && self.sim.is_some() {
+            self.phase_origin = [self.time, phase];
         }
         if (TISSUE_BASE..PRESS_AMPLITUDE).contains(&vr) {
             properties(&self.values)?;
@@ -406,7 +433,10 @@ impl Scene for Abdomen {
             out[0] = m.indicator(|tau| press_at(tau + offset))?;
             return Ok(());
         }
-        let k = (vr - FIRST_OUTPUT) as usize;
+        let k = match vr {
+            CAVITY_PRESSURE => outputs::CAVITY_PRESSURE,
+            _ => (vr - FIRST_OUTPUT) as usize,
+        };
         let cavity = outputs::CAVITY.contains(&k);
         let outputs = match &mut self.outputs {
             Some(o) if !(cavity && o[k].is_nan()) => o,
@@ -463,6 +493,7 @@ impl Scene for Abdomen {
         self.applied = Some(self.values.save());
         self.time = start_time;
         self.lag = 0.0;
+        self.phase_origin = [0.0; 2];
         self.outputs = None;
         self.values.freeze();
         self.warned_validity = false;
@@ -544,6 +575,7 @@ impl Scene for Abdomen {
             values: self.values.save(),
             time: self.time,
             lag: self.lag,
+            phase_origin: self.phase_origin,
             stiffness_changed: self.stiffness_changed,
             warnings: self.warnings.clone(),
             warned_validity: self.warned_validity,
@@ -587,6 +619,7 @@ impl Scene for Abdomen {
             stiffness_changed: s.stiffness_changed,
             time: s.time,
             lag: s.lag,
+            phase_origin: s.phase_origin,
             warnings: s.warnings.clone(),
             warned_validity: s.warned_validity,
             inert: s.inert.clone(),

@@ -10,8 +10,6 @@
 //! triangle of the field (a modal model expands it first) and are computed only when one of
 //! them is read. No computation allocates.
 
-use std::ops::Range;
-
 use super::discretization::Recovery;
 use crate::assembly::Dirichlet;
 use crate::element::tri3;
@@ -22,13 +20,18 @@ use crate::stress::PlaneStress;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 
-/// Number of outputs, in table order: floor stress mean and max; von Mises mean and max
-/// along the floor and over the cavity; x and y displacement of the diaphragm apex, the floor
-/// midpoint and the wall midpoint; the pressing force.
-pub const COUNT: usize = 13;
+/// Number of outputs: in table order from `floor_stress_mean`, the floor stress mean and max;
+/// von Mises mean and max along the floor and over the cavity; x and y displacement of the
+/// diaphragm apex, the floor midpoint and the wall midpoint; the pressing force — then the
+/// contents' mean pressure ([`CAVITY_PRESSURE`], added after them to the table).
+pub const COUNT: usize = 14;
 
-/// The cavity-wide outputs (von Mises mean and max over all triangles), in table order.
-pub const CAVITY: Range<usize> = 4..6;
+/// The position of the contents' mean pressure among the outputs.
+pub const CAVITY_PRESSURE: usize = 13;
+
+/// The cavity-wide outputs (von Mises mean and max over all triangles, the contents' mean
+/// pressure): they visit every triangle of the field.
+pub const CAVITY: [usize; 3] = [4, 5, CAVITY_PRESSURE];
 
 /// Line region of the pelvic floor (diaphragm 0, wall 1, floor 2).
 const FLOOR: u16 = 2;
@@ -97,6 +100,11 @@ impl OutputPlan {
 
     /// The outputs read from `source` with pressing force `press`; the cavity-wide ones
     /// ([`CAVITY`]) from `cavity`, the displacement field, if given, else NaN: not computed.
+    ///
+    /// The contents' mean pressure is p̄ = −Σₑ Aₑ tr σₑ / 3 / Σₑ Aₑ over all triangles: σₑ the
+    /// Cauchy stress at the centroid with its plane-strain σ_zz (the law's out-of-plane
+    /// stress at ε_zz = 0, not zero), Aₑ the reference corner-triangle areas; positive in
+    /// compression. The von Mises statistics use the same centroid stresses and weights.
     pub fn compute(
         &self,
         source: &impl Source,
@@ -111,15 +119,17 @@ impl OutputPlan {
         for (k, &i) in self.along.iter().enumerate() {
             along.add(source.along_stress(k).von_mises(), self.areas[i]);
         }
-        let (mean, max) = match cavity {
+        let (mean, max, pressure) = match cavity {
             Some(field) => {
-                let mut all = Stats::default();
+                let (mut all, mut pressure) = (Stats::default(), Stats::default());
                 for (i, &area) in self.areas.iter().enumerate() {
-                    all.add(field.recovery.triangle(i, field.u).von_mises(), area);
+                    let s = field.recovery.triangle(i, field.u);
+                    all.add(s.von_mises(), area);
+                    pressure.add(-(s.xx + s.yy + s.zz) / 3.0, area);
                 }
-                (all.mean(), all.max)
+                (all.mean(), all.max, pressure.mean())
             }
-            None => (f64::NAN, f64::NAN),
+            None => (f64::NAN, f64::NAN, f64::NAN),
         };
         let p = |k| source.point(k);
         [
@@ -136,6 +146,7 @@ impl OutputPlan {
             p(4),
             p(5),
             press,
+            pressure,
         ]
     }
 }

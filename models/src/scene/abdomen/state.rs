@@ -19,6 +19,9 @@ pub struct State {
     /// The time the state lags behind `time` after steps too short to integrate (s).
     #[serde(default)]
     pub(super) lag: f64,
+    /// Where the press's phase was last set (time s, phase rad).
+    #[serde(default)]
+    pub(super) phase_origin: [f64; 2],
     pub(super) stiffness_changed: bool,
     pub(super) warnings: Vec<String>,
     pub(super) warned_validity: bool,

@@ -37,6 +37,8 @@ pub const COSTAL_MARGIN: u32 = 45;
 pub const TRAINING_PRESS: u32 = 46;
 pub const TRAINING_FREQUENCY: u32 = 47;
 pub const ERROR_INDICATOR: u32 = 48;
+// Added by issue 53.
+pub const CAVITY_PRESSURE: u32 = 49;
 
 /// Value reference of field `field` (0 E, 1 ν or area, 2 density, 3 damping) of a tissue.
 pub fn tissue_vr(tissue: usize, field: u32) -> u32 {
@@ -214,7 +216,8 @@ pub fn table() -> Vec<Variable> {
         Variable::parameter("training_press", Fixed, "N/mm", 1.2, (1e-6, 1e3), "model_order = reduced: the largest total press the hyper-reduced model is trained for (static equilibria from 0 to it — with abdominal_wall = free a slow press to it — and presses to 1/8, 3/8 and all of it at training_frequency); beyond it, or drawn out (negative), the run warns"),
         Variable::parameter("training_frequency", Fixed, "Hz", 5.0, (1e-3, 1e3), "model_order = reduced: the highest press frequency the hyper-reduced model is trained for (its dynamic training presses have this frequency); beyond it the run warns"),
         Variable::output("error_indicator", "1", 1, "error indicator η of the current state: the full model's residual r = f − Mü − Cu̇ − f_int(u) there (a reduced order's coordinates expanded) as the static correction K₀⁻¹r it calls for, relative to the displacement, both in the energy norm of the stiffness at rest K₀ (exactly the relative error of a linear static state); at Newton's tolerance in full order with houbolt or newmark (the explicit integrators' lumped mass shows in it), the reduction's error in a reduced order; infinite where the expanded state inverts an element. Computed only when read: one full-order force evaluation and solve"),
+        Variable::output("cavity_pressure", "MPa", 1, "the contents' mean pressure, the model's intra-abdominal pressure: −tr σ/3 of the Cauchy stress at each triangle's centroid (its plane-strain σ_zz included), averaged weighted by the triangles' reference areas; positive in compression"),
     ]);
-    debug_assert_eq!(t.len(), ERROR_INDICATOR as usize + 1);
+    debug_assert_eq!(t.len(), CAVITY_PRESSURE as usize + 1);
     t
 }
