@@ -70,6 +70,8 @@ fn relocate(markdown: &str) -> (String, Vec<String>) {
 /// the date and the commit, then the report's sections, its plots copied to `img/` beside
 /// `results`. Every file goes through a temporary file and a rename.
 pub fn publish(report_md: &Path, results: &Path, provenance: &Provenance) -> Result<PathBuf> {
+    // Read before the plots are copied: they change the tree.
+    let commit = commit();
     let markdown = std::fs::read_to_string(report_md)
         .with_context(|| format!("reading {}", report_md.display()))?;
     let body = markdown.split_once("\n\n").map_or("", |(_, b)| b);
@@ -81,7 +83,12 @@ pub fn publish(report_md: &Path, results: &Path, provenance: &Provenance) -> Res
     for plot in &plots {
         let bytes = std::fs::read(from.join(plot))
             .with_context(|| format!("reading the plot {}", from.join(plot).display()))?;
-        write_atomic(&img.join(plot), &bytes)?;
+        let to = img.join(plot);
+        if let Some(folder) = to.parent() {
+            std::fs::create_dir_all(folder)
+                .with_context(|| format!("creating {}", folder.display()))?;
+        }
+        write_atomic(&to, &bytes)?;
     }
     let date = output_of("date", &["-u", "+%Y-%m-%d"]).unwrap_or_else(|| "unknown".into());
     let (minutes, seconds) = (
@@ -94,7 +101,7 @@ pub fn publish(report_md: &Path, results: &Path, provenance: &Provenance) -> Res
          command again to renew it. Timings are of that one run (read ratios, not digits); \
          every other number is what the code computes.\n\n",
         provenance.command,
-        commit(),
+        commit,
         std::thread::available_parallelism().map_or(0, usize::from),
     );
     write_atomic(results, format!("{heading}{body}").as_bytes())?;
@@ -111,9 +118,14 @@ mod tests {
     fn a_published_report_points_at_its_copied_plots() {
         let run = tempfile::tempdir().unwrap();
         let md = "# title\n\n## Section\n\n| a |\n|---|\n| 1 |\n\n![Front](pareto.png)\n\n\
-                  *Front* ([SVG](pareto.svg))\n\n- cases: [cases.csv](cases.csv)\n";
+                  *Front* ([SVG](pareto.svg))\n\n![Sweep](sweep/metric.png)\n\n\
+                  - cases: [cases.csv](cases.csv)\n";
         std::fs::write(run.path().join("report.md"), md).unwrap();
         std::fs::write(run.path().join("pareto.png"), b"png bytes").unwrap();
+        // A sweep's plots sit in its own folder of the run (the full report's did not
+        // publish: its folder under img/ was not made).
+        std::fs::create_dir(run.path().join("sweep")).unwrap();
+        std::fs::write(run.path().join("sweep/metric.png"), b"sweep png").unwrap();
         let docs = tempfile::tempdir().unwrap();
         let page = docs.path().join("results.md");
         let provenance = Provenance {
@@ -146,6 +158,11 @@ mod tests {
         assert_eq!(
             std::fs::read(docs.path().join("img/pareto.png")).unwrap(),
             b"png bytes"
+        );
+        assert!(text.contains("![Sweep](img/sweep/metric.png)\n"), "{text}");
+        assert_eq!(
+            std::fs::read(docs.path().join("img/sweep/metric.png")).unwrap(),
+            b"sweep png"
         );
         // A plot the report names but the run lacks is an error, and the page is not written.
         std::fs::remove_file(run.path().join("pareto.png")).unwrap();
