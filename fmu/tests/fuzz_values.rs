@@ -73,6 +73,8 @@ fn choices(model: &str, name: &str) -> (&'static [&'static str], Option<&'static
         (_, "contact") => (&["penalty", "none"], "mortar"),
         (_, "material") => (&["linear", "neo-hookean", "stvk"], "ogden"),
         ("abdomen", "costal_margin") => (&["fixed", "free"], "loose"),
+        ("abdomen", "press_mode") => (&["force", "pressure"], "iap"),
+        ("abdomen", "press_muscles") => (&["diaphragm", "diaphragm_and_wall"], "glutes"),
         _ => panic!("string parameter `{name}` of {model} has no choices listed in this test"),
     };
     (valid, Some(wrong))

@@ -17,7 +17,8 @@ pub struct Continuum {
 }
 
 /// Properties of a line-element region: Young's modulus (MPa), cross-section (mm² per mm
-/// of out-of-plane depth), density (t/mm³).
+/// of out-of-plane depth), density (t/mm³) and, for a muscle sheet, whether it contracts
+/// (carries the press's active tension at finite strain) and its curvature across the slice.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Truss {
     /// Young's modulus (MPa).
@@ -26,6 +27,10 @@ pub struct Truss {
     pub area: f64,
     /// Density (t/mm³).
     pub density: f64,
+    /// Whether the line contracts: the press's active tension acts in it.
+    pub contracts: bool,
+    /// Its curvature across the slice (1/mm; [`Section::transverse_curvature`]).
+    pub transverse_curvature: f64,
 }
 
 impl Truss {
@@ -35,16 +40,19 @@ impl Truss {
             young: positive(&format!("{name}.E"), young)?,
             area: positive(&format!("{name}.area"), area)?,
             density: crate::error::non_negative(&format!("{name}.density"), density)?,
+            contracts: false,
+            transverse_curvature: 0.0,
         })
     }
 
-    /// The section of the lines at finite strain, with active tension `tension` (N per mm
-    /// of depth).
+    /// The section of the lines at finite strain with active tension `tension` (N per mm of
+    /// depth) where the line contracts, none where it does not.
     pub fn section(&self, tension: f64) -> Section {
         Section {
             young: self.young,
             area: self.area,
-            tension,
+            tension: if self.contracts { tension } else { 0.0 },
+            transverse_curvature: self.transverse_curvature,
         }
     }
 }

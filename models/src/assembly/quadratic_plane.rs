@@ -40,7 +40,7 @@ pub fn stiffness(
         asm.add(values, i, &k);
     }
     add_lines(mesh, asm, props, values, |p, t| {
-        line3::stiffness(p, t.young, t.area)
+        line3::stiffness(p, t.section(0.0))
     });
 }
 
@@ -141,8 +141,9 @@ impl SharedTension {
 
 /// A mesh of 6-node triangles at finite strain (plane strain, total Lagrangian), one
 /// material per region, in `formulation`, with its 3-node lines as membranes at finite
-/// strain ([`crate::element::membrane`]); the lines of `active`'s region carry the tension it
-/// holds at each evaluation (a contracting muscle sheet). Its internal forces serve the
+/// strain ([`crate::element::membrane`]); the lines whose truss contracts
+/// ([`Truss::contracts`]: the muscle sheets of a press) carry the tension `active` holds at
+/// each evaluation. Its internal forces serve the
 /// static Newton solver, a dynamic structure and, element by element, its hyper-reduction.
 pub struct PlaneBody {
     /// The mesh of 6-node triangles and 3-node lines.
@@ -155,8 +156,8 @@ pub struct PlaneBody {
     pub formulation: Formulation,
     /// The lines' properties (by line region).
     pub trusses: Arc<[Truss]>,
-    /// The line region that carries an active tension, and the tension.
-    pub active: Option<(u16, Arc<SharedTension>)>,
+    /// The active tension of the contracting lines.
+    pub active: Option<Arc<SharedTension>>,
 }
 
 impl PlaneBody {
@@ -197,30 +198,27 @@ impl PlaneBody {
         )
     }
 
-    /// Line `e` as a membrane carrying the active tension `active` (its region and
-    /// tension) where its region is the active one.
+    /// Line `e` as a membrane, carrying the active tension `tension` if its truss contracts.
     fn line(
         &self,
         e: usize,
-        active: Option<(u16, f64)>,
+        tension: f64,
         ue: &SVector<f64, 6>,
         fe: &mut SVector<f64, 6>,
         ke: Option<&mut SMatrix<f64, 6, 6>>,
     ) -> Result<(), Inverted> {
         let region = self.mesh.line_regions()[e];
-        let tension = active.filter(|a| a.0 == region).map_or(0.0, |a| a.1);
         let section = self.trusses[usize::from(region)].section(tension);
         line3::membrane(&self.mesh.line(e)).internal::<6>(ue, section, fe, ke)
     }
 
-    /// The active region and the tension it carries now; the tension noted as the tangent's
-    /// when `tangent`.
-    fn tension(&self, tangent: bool) -> Option<(u16, f64)> {
-        self.active.as_ref().map(|(region, t)| {
+    /// The active tension now (0 without one); noted as the tangent's when `tangent`.
+    fn tension(&self, tangent: bool) -> f64 {
+        self.active.as_ref().map_or(0.0, |t| {
             if tangent {
                 t.tangent_taken();
             }
-            (*region, t.get())
+            t.get()
         })
     }
 
@@ -242,7 +240,7 @@ impl InternalForces for PlaneBody {
         mut k: Option<&mut [f64]>,
     ) -> Result<(), ModelError> {
         forces::clear(f, k.as_deref_mut());
-        let active = self.tension(k.is_some());
+        let tension = self.tension(k.is_some());
         let mesh = &self.mesh;
         super::add_internal(
             mesh.triangles(),
@@ -255,7 +253,7 @@ impl InternalForces for PlaneBody {
         )?;
         let first = mesh.triangles().len();
         super::add_internal(mesh.lines(), first, &self.asm, u, f, k, |e, ue, fe, ke| {
-            self.line(e, active, ue, fe, ke)
+            self.line(e, tension, ue, fe, ke)
         })
     }
 }
@@ -277,7 +275,7 @@ impl ElementForces for PlaneBody {
         fe: &mut [f64],
         ke: Option<&mut [f64]>,
     ) -> Result<(), ModelError> {
-        let active = self.tension(ke.is_some());
+        let tension = self.tension(ke.is_some());
         let triangles = self.mesh.triangles().len();
         // Numbered within its kind, as the full assembly names an inverted element.
         let inverted =
@@ -286,7 +284,7 @@ impl ElementForces for PlaneBody {
             kernel::<12>(ue, fe, ke, |u, f, k| self.triangle(e, u, f, k)).map_err(inverted(e))
         } else {
             let line = e - triangles;
-            kernel::<6>(ue, fe, ke, |u, f, k| self.line(line, active, u, f, k))
+            kernel::<6>(ue, fe, ke, |u, f, k| self.line(line, tension, u, f, k))
                 .map_err(inverted(line))
         }
     }

@@ -58,6 +58,7 @@ pub fn axial_stress(p: &[[f64; 2]; 2], young: f64, u: &Dofs) -> f64 {
 pub fn membrane(p: &[[f64; 2]; 2]) -> Line<'_, 2, 1> {
     Line {
         nodes: p,
+        shapes: |xi| [0.5 * (1.0 - xi), 0.5 * (1.0 + xi)],
         derivatives: |_| [-0.5, 0.5],
         rule: &GAUSS_1,
     }

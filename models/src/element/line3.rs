@@ -41,16 +41,17 @@ fn reference(p: &[[f64; 2]; 3], xi: f64) -> (f64, Vector2<f64>) {
     (d.norm(), d / d.norm())
 }
 
-/// Axial stiffness for Young's modulus `young` (MPa) and cross-section `area` (mm²).
-pub fn stiffness(p: &[[f64; 2]; 3], young: f64, area: f64) -> SMatrix<f64, 6, 6> {
+/// The small-strain stiffness of a line of `section` (its active tension ignored): the
+/// tangent at rest of [`membrane`] — axial, and the elastic foundation E A κ₂² of a
+/// transverse curvature.
+pub fn stiffness(p: &[[f64; 2]; 3], section: Section) -> SMatrix<f64, 6, 6> {
     let (mut f, mut k) = (Dofs::zeros(), SMatrix::zeros());
-    let section = Section {
-        young,
-        area,
+    let passive = Section {
         tension: 0.0,
+        ..section
     };
     // At rest nothing can fold: the kernel cannot fail.
-    let _ = membrane(p).internal(&Dofs::zeros(), section, &mut f, Some(&mut k));
+    let _ = membrane(p).internal(&Dofs::zeros(), passive, &mut f, Some(&mut k));
     k
 }
 
@@ -103,6 +104,7 @@ pub fn axial_stress(p: &[[f64; 2]; 3], young: f64, u: &Dofs) -> f64 {
 pub fn membrane(p: &[[f64; 2]; 3]) -> Line<'_, 3, 3> {
     Line {
         nodes: p,
+        shapes: shape,
         derivatives,
         rule: &GAUSS_3,
     }
@@ -111,6 +113,16 @@ pub fn membrane(p: &[[f64; 2]; 3]) -> Line<'_, 3, 3> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A passive section, flat across the slice.
+    fn plain(young: f64, area: f64) -> Section {
+        Section {
+            young,
+            area,
+            tension: 0.0,
+            transverse_curvature: 0.0,
+        }
+    }
 
     /// A bar along 30° from (1, 2), length 3.
     fn bar() -> ([[f64; 2]; 3], Vector2<f64>) {
@@ -125,7 +137,7 @@ mod tests {
         // the axis. The consistent load is (1/6, 2/3, 1/6) q L; with a fixed, solve for m, b.
         let (p, c) = bar();
         let (e, a, q, l) = (2.0, 0.5, 0.3, 3.0);
-        let k = stiffness(&p, e, a);
+        let k = stiffness(&p, plain(e, a));
         let f_axial = [2.0 / 3.0 * q * l, 1.0 / 6.0 * q * l];
         // Axial unknowns (m, b): project the 6 × 6 matrix onto the axis.
         let t =
@@ -162,7 +174,7 @@ mod tests {
             Matrix3::new(4.0, 2.0, -1.0, 2.0, 16.0, 2.0, -1.0, 2.0, 4.0) * (rho * a * l / 30.0),
             Matrix2::identity(),
         );
-        assert!((stiffness(&p, e, a) - k).amax() < 1e-14 * k.amax());
+        assert!((stiffness(&p, plain(e, a)) - k).amax() < 1e-14 * k.amax());
         assert!((mass_consistent(&p, rho, a) - m).amax() < 1e-14 * m.amax());
     }
 
@@ -172,7 +184,7 @@ mod tests {
     fn a_curved_element_stretches_and_moves_rigidly_as_its_arc() {
         let (r, centre) = (5.0, [1.0, -2.0]);
         let p = [-0.4, 0.1, 0.6].map(|a: f64| [centre[0] + r * a.cos(), centre[1] + r * a.sin()]);
-        let k = stiffness(&p, 2.0, 0.5);
+        let k = stiffness(&p, plain(2.0, 0.5));
         let rigid = Dofs::from_fn(|row, _| {
             let [x, y] = p[row / 2];
             if row % 2 == 0 {
@@ -191,7 +203,7 @@ mod tests {
     #[test]
     fn rigid_motions_are_free_and_the_masses_sum_to_the_bar_mass() {
         let (p, _) = bar();
-        let k = stiffness(&p, 2.0, 0.5);
+        let k = stiffness(&p, plain(2.0, 0.5));
         let rigid = Dofs::from_fn(|r, _| {
             let [x, y] = p[r / 2];
             if r % 2 == 0 {

@@ -32,6 +32,30 @@
 //! on its nodes along its current tangent, and a curved one presses on what lies on its
 //! concave side with T times its curvature (Laplace's law).
 //!
+//! **Transverse curvature.** The slice sees a sheet edge-on; a real muscle sheet is also
+//! curved across the slice (the diaphragm's dome from side to side, the abdominal wall
+//! round the waist, the levator bowl), with curvature κ₂ there, positive where it is
+//! concave towards the line's left (the cavity's side: the abdomen's lines run
+//! counter-clockwise around it). Across the slice it carries what a strip of a surface of
+//! that curvature carries (Laplace's law of a doubly curved membrane, p = N₁ κ₁ + N₂ κ₂):
+//!
+//! - its **active tension** T, contracting both ways: a follower pressure q = T κ₂ on its
+//!   current left side: the internal force gains f_a += q ∫ N_a J x' dξ with J = [[0, 1],
+//!   [−1, 0]] (J x' the right normal times |x'|, so that the pressure on the mesh points to
+//!   the left); the tangent is the symmetric part of the derivative, q D_ab J with D_ab =
+//!   ½ ∫ (N_a N_b' − N_b N_a') dξ — the antisymmetric rest sums to end terms of the chain,
+//!   which cancel between neighbouring lines of the same q and vanish where the chain's ends
+//!   are held (the pressure on a fixed-ended membrane is conservative); where q jumps at a
+//!   free junction (a contracting diaphragm meeting a free, passive wall) the dropped term
+//!   slows Newton's convergence there, it does not change the solution;
+//! - its **passive transverse stretch** λ₂ = 1 − κ₂ u·n₀ (n₀ the reference left normal: a
+//!   strip of a surface moved by w towards its centre of curvature shortens by κ₂ w),
+//!   carried by the same law as along the line, with energy A ∫ W(λ₂) dS: f_a −= κ₂ ∫ A
+//!   P(λ₂) N_a n₀ dS, K_ab += κ₂² ∫ A P'(λ₂) N_a N_b n₀ n₀ᵀ dS — an elastic foundation of
+//!   stiffness E A κ₂² at rest, slack where the sheet is pushed towards its centre, so that
+//!   a floor or wall bulging out of the cavity is held by its hoop tension as a bowl or a
+//!   cylinder is.
+//!
 //! **Forces and tangent** (A the reference cross-section per mm of depth, N = A P + T the
 //! force the line carries):
 //!
@@ -79,7 +103,8 @@ pub fn nominal_tangent(young: f64, stretch: f64) -> f64 {
 }
 
 /// What a line is made of: Young's modulus `young` (MPa), reference cross-section `area`
-/// (mm² per mm of depth) and active tension `tension` (N per mm of depth).
+/// (mm² per mm of depth), active tension `tension` (N per mm of depth) and transverse
+/// curvature (1/mm).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Section {
     /// Young's modulus E (MPa).
@@ -88,6 +113,9 @@ pub struct Section {
     pub area: f64,
     /// Active tension T (N per mm of depth).
     pub tension: f64,
+    /// Curvature κ₂ across the slice (1/mm), positive where the sheet is concave towards the
+    /// left of the line's direction: the active tension presses there with T κ₂.
+    pub transverse_curvature: f64,
 }
 
 impl Section {
@@ -97,11 +125,13 @@ impl Section {
     }
 }
 
-/// A line element: its reference nodes, its shape-function derivatives dN/dξ and its
-/// quadrature rule.
+/// A line element: its reference nodes, its shape functions and their derivatives dN/dξ,
+/// and its quadrature rule.
 pub struct Line<'a, const N: usize, const Q: usize> {
     /// The reference positions of the nodes (mm).
     pub nodes: &'a [[f64; 2]; N],
+    /// The shape functions N_a at ξ.
+    pub shapes: fn(f64) -> [f64; N],
     /// The shape-function derivatives dN_a/dξ at ξ.
     pub derivatives: fn(f64) -> [f64; N],
     /// The Gauss rule on ξ ∈ [−1, 1].
@@ -177,6 +207,65 @@ impl<const N: usize, const Q: usize> Line<'_, N, Q> {
                 }
             }
         }
+        if section.transverse_curvature != 0.0 {
+            self.transverse(u, section, force, tangent)?;
+        }
+        Ok(())
+    }
+
+    /// Adds the internal force of the sheet's curvature across the slice and, when asked,
+    /// its tangent (see the module documentation): the active tension's follower pressure
+    /// T κ₂ on the line's left, and the passive transverse stretch λ₂ = 1 − κ₂ u·n₀.
+    fn transverse<const D: usize>(
+        &self,
+        u: &SVector<f64, D>,
+        section: Section,
+        force: &mut SVector<f64, D>,
+        mut tangent: Option<&mut SMatrix<f64, D, D>>,
+    ) -> Result<(), Inverted> {
+        let kappa = section.transverse_curvature;
+        let q = section.tension * kappa;
+        let turn = Matrix2::new(0.0, 1.0, -1.0, 0.0);
+        for &(xi, w) in self.rule {
+            let (n, dn) = ((self.shapes)(xi), (self.derivatives)(xi));
+            let (mut reference, mut rate, mut moved) =
+                (Vector2::zeros(), Vector2::zeros(), Vector2::zeros());
+            for a in 0..N {
+                let ua = Vector2::new(u[2 * a], u[2 * a + 1]);
+                reference += Vector2::from(self.nodes[a]) * dn[a];
+                rate += (Vector2::from(self.nodes[a]) + ua) * dn[a];
+                moved += ua * n[a];
+            }
+            // The reference normal to the left, n₀, times dS/dξ.
+            let left = -(turn * reference);
+            let jacobian = reference.norm();
+            let normal = left / jacobian;
+            let stretch = Inverted::check(1.0 - kappa * moved.dot(&normal))?;
+            let passive = section.area * nominal_stress(section.young, stretch) * kappa;
+            let push = turn * rate * q - left * passive;
+            for a in 0..N {
+                for i in 0..2 {
+                    force[2 * a + i] += w * n[a] * push[i];
+                }
+            }
+            let Some(k) = tangent.as_deref_mut() else {
+                continue;
+            };
+            let foundation = normal
+                * normal.transpose()
+                * (section.area
+                    * nominal_tangent(section.young, stretch)
+                    * kappa
+                    * kappa
+                    * jacobian);
+            for a in 0..N {
+                for b in 0..N {
+                    let d = 0.5 * (n[a] * dn[b] - n[b] * dn[a]);
+                    let mut view = k.fixed_view_mut::<2, 2>(2 * a, 2 * b);
+                    view += (turn * (q * d) + foundation * (n[a] * n[b])) * w;
+                }
+            }
+        }
         Ok(())
     }
 
@@ -209,6 +298,7 @@ mod tests {
         young: E,
         area: AREA,
         tension: 0.0,
+        transverse_curvature: 0.0,
     };
 
     /// A 3-node line along 30° from (1, 2), length 3, and its 2-node chord.
@@ -253,11 +343,16 @@ mod tests {
     }
 
     /// The tangent against central differences of the force (to 1e-6 of its largest entry),
-    /// passive and with an active tension.
+    /// passive, with an active tension and with a passive transverse curvature.
     fn check_tangent<const N: usize, const Q: usize, const D: usize>(line: &Line<'_, N, Q>) {
         let u = some_u::<D>();
-        for tension in [0.0, 0.3] {
-            let section = Section { tension, ..PASSIVE };
+        // Passive, active, and passive curved across the slice (its foundation conservative).
+        for (tension, transverse_curvature) in [(0.0, 0.0), (0.3, 0.0), (0.0, 0.05)] {
+            let section = Section {
+                tension,
+                transverse_curvature,
+                ..PASSIVE
+            };
             let (_, k) = forces_of(line, &u, section);
             let h = 1e-6;
             for c in 0..D {
@@ -271,6 +366,140 @@ mod tests {
             }
             assert!((k - k.transpose()).amax() < 1e-14 * k.amax(), "symmetric");
         }
+    }
+
+    /// With a transverse curvature the tangent is the symmetric part of the force's
+    /// derivative (to 1e-6 of its largest entry) and, on a chain of two lines whose ends are
+    /// held, the derivative itself at the free nodes.
+    #[test]
+    fn a_transverse_pressure_has_the_symmetric_tangent_exact_on_a_held_chain() {
+        let p = line();
+        let section = Section {
+            tension: 0.3,
+            transverse_curvature: 0.05,
+            ..PASSIVE
+        };
+        let element = line3::membrane(&p);
+        let u = some_u::<6>();
+        let (_, k) = forces_of(&element, &u, section);
+        let h = 1e-6;
+        let fd = SMatrix::<f64, 6, 6>::from_fn(|r, c| {
+            let (mut up, mut um) = (u, u);
+            up[c] += h;
+            um[c] -= h;
+            (forces_of(&element, &up, section).0[r] - forces_of(&element, &um, section).0[r])
+                / (2.0 * h)
+        });
+        let symmetric = (fd + fd.transpose()) / 2.0;
+        assert!((symmetric - k).amax() < 1e-6 * k.amax());
+        assert!(
+            (fd - k).amax() > 1e-3 * k.amax(),
+            "one line's derivative is not symmetric"
+        );
+        // Two lines end to end, nodes 0..5: the second the first turned by 40° about node 2.
+        let r = nalgebra::Rotation2::new(40f64.to_radians());
+        let second = [0, 1, 2].map(|i| {
+            let d = r * (Vector2::from(p[i]) - Vector2::from(p[0]));
+            [p[2][0] + d[0], p[2][1] + d[1]]
+        });
+        let chain = |u: &SVector<f64, 10>| {
+            let (mut f, mut k) = (SVector::<f64, 10>::zeros(), SMatrix::<f64, 10, 10>::zeros());
+            for (nodes, first) in [(&p, 0), (&second, 4)] {
+                let ue = SVector::<f64, 6>::from_fn(|i, _| u[first + i]);
+                let (fe, ke) = forces_of(&line3::membrane(nodes), &ue, section);
+                for i in 0..6 {
+                    f[first + i] += fe[i];
+                    for j in 0..6 {
+                        k[(first + i, first + j)] += ke[(i, j)];
+                    }
+                }
+            }
+            (f, k)
+        };
+        let u = SVector::<f64, 10>::from_fn(|i, _| {
+            if (2..8).contains(&i) {
+                0.4 * ((i * 37 % 11) as f64 / 11.0 - 0.5)
+            } else {
+                0.0
+            }
+        });
+        let (_, k) = chain(&u);
+        for c in 2..8 {
+            let (mut up, mut um) = (u, u);
+            up[c] += h;
+            um[c] -= h;
+            let column = (chain(&up).0 - chain(&um).0) / (2.0 * h);
+            for r in 2..8 {
+                let gap = (column[r] - k[(r, c)]).abs() / k.amax();
+                assert!(gap < 1e-6, "({r}, {c}): {gap:e}");
+            }
+        }
+    }
+
+    /// A straight line of length L with active tension T and transverse curvature κ₂ at rest
+    /// pushes its left side with the resultant T κ₂ L, shared L/6, 2L/3, L/6 by its nodes
+    /// (the consistent load of a uniform pressure on a 3-node line), besides pulling its ends
+    /// together with T.
+    #[test]
+    fn a_transversely_curved_sheet_presses_its_left_side_with_t_kappa() {
+        let p = line();
+        let (tension, kappa, length) = (0.7, 1.0 / 150.0, 3.0);
+        let section = Section {
+            tension,
+            transverse_curvature: kappa,
+            ..PASSIVE
+        };
+        let (f, _) = forces_of(&line3::membrane(&p), &line3::Dofs::zeros(), section);
+        let t = (Vector2::from(p[2]) - Vector2::from(p[0])).normalize();
+        let left = Vector2::new(-t[1], t[0]);
+        let q = tension * kappa;
+        let on_mesh = |a: usize| -Vector2::new(f[2 * a], f[2 * a + 1]);
+        for (a, share, pull) in [
+            (0, 1.0 / 6.0, 1.0),
+            (1, 2.0 / 3.0, 0.0),
+            (2, 1.0 / 6.0, -1.0),
+        ] {
+            let expected = left * (q * length * share) + t * (tension * pull);
+            assert!((on_mesh(a) - expected).norm() < 1e-14, "node {a}");
+        }
+        let (f2, _) = forces_of(&line2::membrane(&chord()), &line2::Dofs::zeros(), section);
+        let on_chord = -Vector2::new(f2[0] + f2[2], f2[1] + f2[3]);
+        assert!((on_chord - left * (q * length)).norm() < 1e-14);
+    }
+
+    /// A straight passive line of length L moved by w along its normal: away from its
+    /// centre of transverse curvature (to its right) it is held by the foundation E A κ₂² w L
+    /// (to first order: w of 1e-4 κ₂⁻¹), towards it it goes slack (E A δ κ₂ L / λ₂).
+    #[test]
+    fn a_sheet_curved_across_resists_bulging_out_and_goes_slack_bulging_in() {
+        let p = chord();
+        let (kappa, length) = (1.0 / 60.0, 3.0);
+        let section = Section {
+            transverse_curvature: kappa,
+            ..PASSIVE
+        };
+        let t = (Vector2::from(p[1]) - Vector2::from(p[0])).normalize();
+        let left = Vector2::new(-t[1], t[0]);
+        let resultant = |w: f64| {
+            let u = line2::Dofs::from_fn(|r, _| -w * left[r % 2]);
+            let (f, _) = forces_of(&line2::membrane(&p), &u, section);
+            Vector2::new(f[0] + f[2], f[1] + f[3])
+        };
+        let w = 1e-4 / kappa;
+        let out = resultant(w);
+        let foundation = E * AREA * kappa * kappa * w * length;
+        assert!(
+            (out + left * foundation).norm() < 1e-3 * foundation,
+            "{out}"
+        );
+        // Moved in by 0.05/κ₂: λ₂ = 0.95, far beyond δ, where the nominal stress is −E δ / λ₂.
+        let inward = resultant(-0.05 / kappa);
+        let slack = E * AREA * SLACK / 0.95 * kappa * length;
+        assert!((inward.norm() / slack - 1.0).abs() < 1e-9, "{inward}");
+        assert!(
+            inward.dot(&left) > 0.0,
+            "a slack sheet still pushes a little, outwards"
+        );
     }
 
     #[test]
@@ -305,7 +534,7 @@ mod tests {
     fn at_small_strain_the_lines_are_the_linear_elements() {
         let (p3, p2) = (line(), chord());
         let (k3, k2) = (
-            line3::stiffness(&p3, E, AREA),
+            line3::stiffness(&p3, PASSIVE),
             line2::stiffness(&p2, E, AREA),
         );
         let at_rest3 = forces(&line3::membrane(&p3), &line3::Dofs::zeros()).1;

@@ -11,6 +11,7 @@ const SECTION: Section = Section {
     young: 0.2,
     area: 4.0,
     tension: 0.0,
+    transverse_curvature: 0.0,
 };
 
 /// The closed form for a string of reference length `SPAN`, straight and unstressed between

@@ -6,15 +6,7 @@ use models::scene::{Scene, SceneError};
 use models::verify::richardson;
 
 fn scene(strings: &[(&str, &str)], reals: &[(&str, f64)]) -> Abdomen {
-    let mut s = Abdomen::new();
-    for (k, v) in strings {
-        s.set_str(k, v).unwrap();
-    }
-    for (k, v) in reals {
-        s.set(k, *v).unwrap();
-    }
-    s.initialize(0.0).unwrap();
-    s
+    Abdomen::initialized(strings, reals).unwrap()
 }
 
 /// Runs `seconds` at dt = 1 ms and returns the peak of each named output over the run.

@@ -4,19 +4,7 @@
 //! reduced order on 6-node triangles.
 
 use models::scene::abdomen::Abdomen;
-use models::scene::{Scene, SceneError};
-
-fn scene(strings: &[(&str, &str)], reals: &[(&str, f64)]) -> Result<Abdomen, SceneError> {
-    let mut s = Abdomen::new();
-    for (k, v) in strings {
-        s.set_str(k, v)?;
-    }
-    for (k, v) in reals {
-        s.set(k, *v)?;
-    }
-    s.initialize(0.0)?;
-    Ok(s)
-}
+use models::scene::Scene;
 
 /// The static outputs (table order, from `floor_stress_mean`) under a press of `press`.
 fn static_outputs(s: &Abdomen, press: f64) -> Vec<f64> {
@@ -58,13 +46,13 @@ fn element_choices_are_checked_with_clear_errors() {
         ),
     ];
     for (strings, expected) in refused {
-        let e = scene(&strings, &[("target_triangles", 300.0)])
+        let e = Abdomen::initialized(&strings, &[("target_triangles", 300.0)])
             .unwrap_err()
             .to_string();
         assert!(e.contains(expected), "{strings:?}: {e}");
     }
     // Finite strain on the mixed element is offered (issue 26).
-    scene(
+    Abdomen::initialized(
         &[("formulation", "mixed"), ("kinematics", "finite")],
         &[("target_triangles", 300.0)],
     )
@@ -72,7 +60,7 @@ fn element_choices_are_checked_with_clear_errors() {
     let e = s.set_str("costal_margin", "loose").unwrap_err().to_string();
     assert!(e.contains("costal_margin") && e.contains("loose"), "{e}");
     // An explicit scheme cannot step finite strain; the error says so at the first step.
-    let mut s = scene(
+    let mut s = Abdomen::initialized(
         &[
             ("element", "tri6"),
             ("kinematics", "finite"),
@@ -93,7 +81,7 @@ fn element_choices_are_checked_with_clear_errors() {
 #[test]
 fn supports_hold_the_mid_edge_nodes_of_supported_edges() {
     let held = |margin: &str| {
-        let s = scene(
+        let s = Abdomen::initialized(
             &[
                 ("abdominal_wall", "free"),
                 ("costal_margin", margin),
@@ -120,7 +108,7 @@ fn supports_hold_the_mid_edge_nodes_of_supported_edges() {
 #[test]
 fn the_mixed_element_does_not_lock_where_linear_triangles_do() {
     let apex = |element: &str, formulation: &str, nu: f64| {
-        let s = scene(
+        let s = Abdomen::initialized(
             &[
                 ("element", element),
                 ("formulation", formulation),
@@ -152,7 +140,7 @@ fn the_mixed_element_does_not_lock_where_linear_triangles_do() {
 #[test]
 fn finite_strain_departs_from_small_strain_in_proportion_to_the_load() {
     let tri6 = |kinematics: &str, amplitude: f64| {
-        scene(
+        Abdomen::initialized(
             &[("element", "tri6"), ("kinematics", kinematics)],
             &[
                 ("target_triangles", 600.0),
@@ -203,7 +191,7 @@ fn finite_strain_departs_from_small_strain_in_proportion_to_the_load() {
 #[test]
 fn modal_order_follows_the_full_order_on_mixed_triangles() {
     let run = |order: &str| {
-        let mut s = scene(
+        let mut s = Abdomen::initialized(
             &[
                 ("element", "tri6"),
                 ("formulation", "mixed"),
@@ -241,7 +229,7 @@ fn modal_order_follows_the_full_order_on_mixed_triangles() {
 fn subdivided_meshes_are_nested_and_keep_their_landmarks() {
     let meshes: Vec<_> = (0..3)
         .map(|n| {
-            scene(
+            Abdomen::initialized(
                 &[],
                 &[
                     ("target_triangles", 300.0),
@@ -269,7 +257,7 @@ fn subdivided_meshes_are_nested_and_keep_their_landmarks() {
         // little.
         assert!(pair[1].min_angle > pair[0].min_angle - 5.0);
     }
-    let e = scene(&[], &[("mesh_subdivisions", 1.5)])
+    let e = Abdomen::initialized(&[], &[("mesh_subdivisions", 1.5)])
         .unwrap_err()
         .to_string();
     assert!(e.contains("mesh_subdivisions"), "{e}");
@@ -282,7 +270,7 @@ fn the_largest_strain_of_a_uniform_strain_field_is_its_principal_strain() {
     let h = [[0.02, 0.01], [0.03, -0.01]];
     for element in ["tri3", "tri6"] {
         let strings = [("element", element), ("kinematics", "linear")];
-        let s = scene(&strings, &[("target_triangles", 300.0)]).unwrap();
+        let s = Abdomen::initialized(&strings, &[("target_triangles", 300.0)]).unwrap();
         let zero = s.static_displacement(0.0).unwrap();
         let view = s.view(&zero).unwrap();
         let nodes = view.quadratic.map_or(view.mesh.nodes(), |q| q.nodes());
@@ -335,7 +323,7 @@ fn the_mean_pressure_of_a_uniform_compression_is_the_laws() {
             ("cavity_E", e),
             ("cavity_nu", nu),
         ];
-        let s = scene(&strings, &reals).unwrap();
+        let s = Abdomen::initialized(&strings, &reals).unwrap();
         let zero = s.static_displacement(0.0).unwrap();
         let view = s.view(&zero).unwrap();
         let nodes = view.quadratic.map_or(view.mesh.nodes(), |q| q.nodes());
@@ -360,7 +348,7 @@ fn the_scene_warns_once_where_it_leaves_its_validity() {
     // The default press strains the linear model beyond 5 % within half a period: one
     // warning.
     let linear = [("kinematics", "linear")];
-    let mut s = scene(&linear, &[]).unwrap();
+    let mut s = Abdomen::initialized(&linear, &[]).unwrap();
     assert!(s.take_warnings().is_empty());
     let mut warnings = Vec::new();
     for i in 0..50 {
@@ -374,7 +362,7 @@ fn the_scene_warns_once_where_it_leaves_its_validity() {
     for (amplitude, expected) in [(0.8, &warnings), (0.008, &Vec::new())] {
         for order in ["full", "modal"] {
             let strings = [linear[0], ("model_order", order)];
-            let mut s = scene(&strings, &[("press_amplitude", amplitude)]).unwrap();
+            let mut s = Abdomen::initialized(&strings, &[("press_amplitude", amplitude)]).unwrap();
             let mut seen = Vec::new();
             for i in 0..50 {
                 s.do_step(i as f64 * 1e-2, 1e-2).unwrap();
@@ -384,7 +372,7 @@ fn the_scene_warns_once_where_it_leaves_its_validity() {
         }
     }
     // At finite strain (the default) the same load is no reason to warn.
-    let mut s = scene(&[], &[("target_triangles", 300.0)]).unwrap();
+    let mut s = Abdomen::initialized(&[], &[("target_triangles", 300.0)]).unwrap();
     for i in 0..50 {
         s.do_step(i as f64 * 1e-2, 1e-2).unwrap();
     }
@@ -392,13 +380,14 @@ fn the_scene_warns_once_where_it_leaves_its_validity() {
     // Linear triangles lock beyond ν = 0.45 (the default is 0.49); the 6-node displacement element beyond
     // 0.499, also when ν is raised at run time; the mixed element does not.
     let tri3 = [("element", "tri3"), linear[0]];
-    let mut s = scene(&tri3, &[("press_amplitude", 0.0)]).unwrap();
+    let mut s = Abdomen::initialized(&tri3, &[("press_amplitude", 0.0)]).unwrap();
     assert!(locking(&s.take_warnings()));
-    let mut s = scene(&[], &[("press_amplitude", 0.0)]).unwrap();
+    let mut s = Abdomen::initialized(&[], &[("press_amplitude", 0.0)]).unwrap();
     assert!(s.take_warnings().is_empty());
     s.set("cavity_nu", 0.4999).unwrap();
     s.do_step(0.0, 1e-3).unwrap();
     assert!(locking(&s.take_warnings()));
-    let mut s = scene(&[("formulation", "mixed")], &[("cavity_nu", 0.4999)]).unwrap();
+    let mut s =
+        Abdomen::initialized(&[("formulation", "mixed")], &[("cavity_nu", 0.4999)]).unwrap();
     assert!(s.take_warnings().is_empty());
 }

@@ -202,7 +202,15 @@ fn the_free_wall_follows_full_order_too() {
                 *p = p.max(s.get(name).unwrap().abs());
             }
         }
-        assert!(s.take_warnings().is_empty(), "{order} {configuration}");
+        // The softest wall passes the membranes' stretch limit on the lordotic and tilted
+        // pelvises, which only full order checks: that warning alone is allowed.
+        let warnings = s.take_warnings();
+        assert!(
+            warnings
+                .iter()
+                .all(|w| w.contains("wall is stretched beyond")),
+            "{order} {configuration}: {warnings:?}"
+        );
         peak
     };
     let softest = ["normal", "narrow", "wide", "lordotic", "tilted"].map(|c| (c, 0.01));

@@ -5,6 +5,7 @@
 mod abdomen;
 mod abdomen_elements;
 mod abdomen_modal;
+mod abdomen_pressure;
 mod abdomen_reduced;
 mod checkpoint;
 mod cutblock;

@@ -13,15 +13,7 @@ use crate::studies::findings;
 use crate::sweep::Value;
 
 fn scene(strings: &[(&str, &str)], reals: &[(&str, f64)]) -> Result<Abdomen> {
-    let mut s = Abdomen::new();
-    for (k, v) in strings {
-        s.set_str(k, v)?;
-    }
-    for (k, v) in reals {
-        s.set(k, *v)?;
-    }
-    s.initialize(0.0)?;
-    Ok(s)
+    Ok(Abdomen::initialized(strings, reals)?)
 }
 
 /// Peak pelvic-floor stress (mean, max) over the first press, for a scene with `settings`

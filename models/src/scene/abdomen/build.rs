@@ -23,9 +23,6 @@ use crate::linalg::Factorization;
 use crate::scene::{SceneError, Values};
 use crate::solve::{Damping, IntegratorKind, Structure};
 
-/// Line region of the diaphragm.
-pub(super) const DIAPHRAGM: u16 = 0;
-
 /// The full-order abdomen for one set of parameter values.
 pub struct FullOrder {
     pub disc: Discretization,
@@ -94,7 +91,7 @@ impl FullOrder {
         )?;
         let bc = Dirichlet::new(asm, &fixed)?;
         let tension = Arc::new(SharedTension::default());
-        let body = disc.body(&props, DIAPHRAGM, &tension).map(Arc::new);
+        let body = disc.body(&props, &tension).map(Arc::new);
         let factorization = Factorization::plane(bc.n_free(), body.is_none());
         let mut structure = Structure::new(bc, &k, &m, &lumped, Damping::NONE, factorization)?;
         structure.set_damping_matrix(&c);
@@ -124,10 +121,7 @@ impl FullOrder {
     pub fn set_properties(&mut self, props: PlaneProperties) {
         self.disc.stiffness(&props, &mut self.k);
         self.structure.set_stiffness(&self.k);
-        self.body = self
-            .disc
-            .body(&props, DIAPHRAGM, &self.tension)
-            .map(Arc::new);
+        self.body = self.disc.body(&props, &self.tension).map(Arc::new);
         if let Some(body) = &self.body {
             self.structure.set_internal_forces(body.clone());
         }
@@ -225,7 +219,7 @@ impl FullOrder {
         tension: &Arc<SharedTension>,
     ) -> Result<Arc<PlaneBody>, SceneError> {
         self.disc
-            .body(&self.props, DIAPHRAGM, tension)
+            .body(&self.props, tension)
             .map(Arc::new)
             .ok_or_else(|| SceneError::Config("a press run needs finite kinematics".into()))
     }
@@ -248,7 +242,7 @@ fn press_pattern(
     props: &PlaneProperties,
     bc: &Dirichlet,
 ) -> Result<(Vec<f64>, f64), SceneError> {
-    let f = disc.contraction(DIAPHRAGM, props)?;
+    let f = disc.contraction(props)?;
     let mut reduced = vec![0.0; bc.n_free()];
     bc.reduce(&f, &mut reduced);
     let resultant = bc

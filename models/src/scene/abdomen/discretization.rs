@@ -220,15 +220,12 @@ impl Discretization {
     }
 
     /// The nodal forces (all dofs) that a unit active tension (1 N per mm of depth) in the
-    /// line elements of region `region` exerts on the mesh at rest: −f_int(0) of
-    /// [`crate::element::membrane`] with T = 1. Along a polyline of straight elements these
-    /// are T times the turning of the line at its nodes (Laplace's law, discrete), pointing
-    /// to its concave side, plus the pull at its ends.
-    pub fn contraction(
-        &self,
-        region: u16,
-        props: &PlaneProperties,
-    ) -> Result<Vec<f64>, SceneError> {
+    /// contracting line elements ([`crate::assembly::plane::Truss::contracts`]) exerts on
+    /// the mesh at rest: −f_int(0) of [`crate::element::membrane`] with T = 1. Along a
+    /// polyline of straight elements these are T times the turning of the line at its nodes
+    /// (Laplace's law, discrete), pointing to its concave side, plus the pull at its ends —
+    /// and T κ₂ times its length where it is curved across the slice.
+    pub fn contraction(&self, props: &PlaneProperties) -> Result<Vec<f64>, SceneError> {
         let mesh = self.mesh();
         let mut f = vec![0.0; self.n_dofs()];
         let folded = |e: usize| {
@@ -240,10 +237,11 @@ impl Discretization {
             }
         };
         for (i, &r) in mesh.line_regions().iter().enumerate() {
-            if r != region {
+            let truss = &props.trusses[usize::from(r)];
+            if !truss.contracts {
                 continue;
             }
-            let section = props.trusses[usize::from(r)].section(1.0);
+            let section = truss.section(1.0);
             match &self.quadratic {
                 Some(q) => {
                     let mut fe = line3::Dofs::zeros();
@@ -288,16 +286,11 @@ impl Discretization {
         }
     }
 
-    /// The finite-strain body for `props` (None for linear kinematics), the lines of region
-    /// `region` carrying the active tension `tension` holds at each evaluation: the internal
-    /// forces of a static solve, of the dynamic structure and, element by element, of its
+    /// The finite-strain body for `props` (None for linear kinematics), the contracting lines
+    /// carrying the active tension `tension` holds at each evaluation: the internal forces of
+    /// a static solve, of the dynamic structure and, element by element, of its
     /// hyper-reduction.
-    pub fn body(
-        &self,
-        props: &PlaneProperties,
-        region: u16,
-        tension: &Arc<SharedTension>,
-    ) -> Option<PlaneBody> {
+    pub fn body(&self, props: &PlaneProperties, tension: &Arc<SharedTension>) -> Option<PlaneBody> {
         let q = self.quadratic.as_ref().filter(|_| self.choice.finite)?;
         Some(PlaneBody {
             mesh: q.clone(),
@@ -305,7 +298,7 @@ impl Discretization {
             materials: materials(props).into(),
             formulation: self.choice.formulation,
             trusses: props.trusses.clone().into(),
-            active: Some((region, tension.clone())),
+            active: Some(tension.clone()),
         })
     }
 }

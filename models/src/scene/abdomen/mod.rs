@@ -17,6 +17,7 @@ pub mod geometry;
 pub mod mesher;
 mod outputs;
 mod parameters;
+mod pressure;
 mod reduced;
 mod simulation;
 mod state;
@@ -31,11 +32,12 @@ use config::{PelvisConfig, ANATOMY};
 use discretization::FieldView;
 use mesher::Meshed;
 use parameters::properties;
+use pressure::Found;
 use simulation::Simulation;
 use variables::{
     table, CAVITY_PRESSURE, COSTAL_MARGIN, ELEMENT, ERROR_INDICATOR, FIRST_OUTPUT, FORMULATION,
     INTEGRATOR, KINEMATICS, MAX_STEP, MEMORY_LIMIT, MODEL_ORDER, PRESS_AMPLITUDE, PRESS_FORCE,
-    PRESS_FREQUENCY, TISSUE_BASE, WALL_SUPPORT,
+    PRESS_FREQUENCY, PRESS_MODE, PRESS_MUSCLES, TARGET_PRESSURE, TISSUE_BASE, WALL_SUPPORT,
 };
 
 use super::{
@@ -43,13 +45,15 @@ use super::{
     SceneState, Values, ValuesState, Variable,
 };
 use crate::budget;
+use crate::error::ModelError;
 use crate::solve::{IntegratorKind, ModalBasis, Structure};
 
 /// What the scene is, in one line (the FMUs' `description`).
 pub const DESCRIPTION: &str = "2D midsagittal finite-element model of the abdominal cavity \
 (6- or 3-node triangles with line-element membranes; linear or finite strain; full, modal or \
-hyper-reduced order): pelvis/spine configuration, per-tissue stiffness, pressing force on the diaphragm, \
-pelvic-floor stress (seed 003 §5.4)";
+hyper-reduced order): pelvis/spine configuration, per-tissue stiffness, a press driven by the \
+muscles' force or by the contents' pressure (intra-abdominal pressure), pelvic-floor stress \
+(seed 003 §5.4)";
 
 /// Most substeps one communication step may take: a step that would need more is refused
 /// (it names `max_step` and h) instead of running for hours.
@@ -75,6 +79,9 @@ pub struct Abdomen {
     lag: f64,
     /// Where the press's phase was last set: (time in s, phase in rad); see [`Press`].
     phase_origin: [f64; 2],
+    /// In `press_mode = "pressure"`, the pressing force of the last step and the slope of
+    /// the contents' pressure against it there ([`pressure`]).
+    found: Found,
     /// Warnings not yet taken, and whether the strain warning was given in this run.
     warnings: Vec<String>,
     warned_validity: bool,
@@ -100,10 +107,28 @@ impl Abdomen {
             time: 0.0,
             lag: 0.0,
             phase_origin: [0.0; 2],
+            found: pressure::AT_REST,
             warnings: Vec::new(),
             warned_validity: false,
             inert: Inert::default(),
         }
+    }
+
+    /// A scene with the string values `strings` and the real values `reals` set by name,
+    /// initialized at t = 0.
+    pub fn initialized(
+        strings: &[(&str, &str)],
+        reals: &[(&str, f64)],
+    ) -> Result<Self, SceneError> {
+        let mut s = Self::new();
+        for (name, value) in strings {
+            s.set_str(name, value)?;
+        }
+        for (name, value) in reals {
+            s.set(name, *value)?;
+        }
+        s.initialize(0.0)?;
+        Ok(s)
     }
 
     /// Sets a real variable by name.
@@ -178,6 +203,7 @@ impl Abdomen {
         self.warnings.clear();
         let inert = self.inert.check_all(&self.values, parameters::inert);
         self.warnings.extend(inert);
+        let target = self.target();
         let press = self.run_press();
         let dt = self.values.real(MAX_STEP);
         let m = self
@@ -186,7 +212,10 @@ impl Abdomen {
             .ok_or_else(|| SceneError::NotInitialized {
                 name: "restart".into(),
             })?;
-        m.start(start_time, dt, |t| press.at(t))?;
+        match target {
+            Some(p) => self.found = m.start_at_pressure(start_time, dt, p, pressure::AT_REST)?,
+            None => m.start(start_time, dt, |t| press.at(t))?,
+        }
         self.time = start_time;
         self.lag = 0.0;
         self.phase_origin = [0.0; 2];
@@ -238,12 +267,26 @@ impl Abdomen {
 
     /// The pressing force as the inputs now give it.
     fn pressing(&self) -> Press {
+        if self.target().is_some() {
+            return Press {
+                force: self.found.force,
+                amplitude: 0.0,
+                frequency: 0.0,
+                origin: self.phase_origin,
+            };
+        }
         Press {
             force: self.values.real(PRESS_FORCE),
             amplitude: self.values.real(PRESS_AMPLITUDE),
             frequency: self.values.real(PRESS_FREQUENCY),
             origin: self.phase_origin,
         }
+    }
+
+    /// The contents' mean pressure the press holds (MPa), in `press_mode = "pressure"`.
+    fn target(&self) -> Option<f64> {
+        (self.values.string(PRESS_MODE) == Ok("pressure"))
+            .then(|| self.values.real(TARGET_PRESSURE))
     }
 
     /// The press of a run from its start: the phase 2πft on the caller's time.
@@ -256,11 +299,18 @@ impl Abdomen {
 
     /// A model built for the current values, at rest at `start_time` under the pressing
     /// force there.
-    fn started(&self, start_time: f64) -> Result<Simulation, SceneError> {
+    fn started(&self, start_time: f64) -> Result<(Simulation, Found), SceneError> {
         let mut sim = Simulation::build(&self.values)?;
         let press = self.run_press();
-        sim.start(start_time, self.values.real(MAX_STEP), |t| press.at(t))?;
-        Ok(sim)
+        let dt = self.values.real(MAX_STEP);
+        let found = match self.target() {
+            Some(p) => sim.start_at_pressure(start_time, dt, p, pressure::AT_REST)?,
+            None => {
+                sim.start(start_time, dt, |t| press.at(t))?;
+                pressure::AT_REST
+            }
+        };
+        Ok((sim, found))
     }
 
     /// The built model, or an error naming what needed it.
@@ -310,7 +360,8 @@ impl Abdomen {
             return;
         }
         let warning = validity::kinematics(m, self.time)
-            .or_else(|| validity::training(m, press.extremes(), press.varying_frequency()));
+            .or_else(|| validity::training(m, press.extremes(), press.varying_frequency()))
+            .or_else(|| validity::membranes(m, self.time));
         if let Some(w) = warning {
             self.warned_validity = true;
             self.warnings.push(w);
@@ -459,6 +510,13 @@ impl Scene for Abdomen {
         if vr == MODEL_ORDER {
             parameters::order(value)?;
         }
+        if vr == PRESS_MODE && !matches!(value, "force" | "pressure") {
+            return Err(ModelError::unknown("press_mode", value, "force or pressure").into());
+        }
+        if vr == PRESS_MUSCLES && !matches!(value, "diaphragm" | "diaphragm_and_wall") {
+            let choices = "diaphragm or diaphragm_and_wall";
+            return Err(ModelError::unknown("press_muscles", value, choices).into());
+        }
         if vr == ELEMENT {
             discretization::element(value)?;
         }
@@ -488,8 +546,9 @@ impl Scene for Abdomen {
             });
         }
         let limit = megabytes(self.values.real(MEMORY_LIMIT));
-        let sim = budget::within(limit, || self.started(start_time))?;
+        let (sim, found) = budget::within(limit, || self.started(start_time))?;
         self.sim = Some(sim);
+        self.found = found;
         self.applied = Some(self.values.save());
         self.time = start_time;
         self.lag = 0.0;
@@ -540,7 +599,7 @@ impl Scene for Abdomen {
                 limit: MAX_SUBSTEPS,
             });
         }
-        let press = self.pressing();
+        let (press, target) = (self.pressing(), self.target());
         let Some(m) = &mut self.sim else {
             return Err(SceneError::NotInitialized {
                 name: "do_step".into(),
@@ -557,7 +616,10 @@ impl Scene for Abdomen {
             true => (m.integrator.dt(), leftover),
             false => (span / substeps, 0.0),
         };
-        m.advance(dt, substeps as u64, |tau| press.at(tau + offset))?;
+        match target {
+            Some(p) => self.found = m.advance_at_pressure(dt, substeps as u64, p, self.found)?,
+            None => m.advance(dt, substeps as u64, |tau| press.at(tau + offset))?,
+        }
         self.lag = lag;
         self.time = t + h;
         self.outputs = None;
@@ -576,6 +638,7 @@ impl Scene for Abdomen {
             time: self.time,
             lag: self.lag,
             phase_origin: self.phase_origin,
+            found: self.found,
             stiffness_changed: self.stiffness_changed,
             warnings: self.warnings.clone(),
             warned_validity: self.warned_validity,
@@ -620,6 +683,7 @@ impl Scene for Abdomen {
             time: s.time,
             lag: s.lag,
             phase_origin: s.phase_origin,
+            found: s.found,
             warnings: s.warnings.clone(),
             warned_validity: s.warned_validity,
             inert: s.inert.clone(),

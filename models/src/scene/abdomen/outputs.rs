@@ -61,6 +61,23 @@ pub struct OutputPlan {
 }
 
 impl OutputPlan {
+    /// The contents' mean pressure p̄ of `field` (MPa; see [`OutputPlan::compute`]).
+    pub fn pressure(&self, field: &Field<'_>) -> f64 {
+        self.cavity(field).1.mean()
+    }
+
+    /// The area-weighted statistics of the triangles' von Mises stress and of their mean
+    /// pressure −tr σ/3, at their centroids.
+    fn cavity(&self, field: &Field<'_>) -> (Stats, Stats) {
+        let (mut all, mut pressure) = (Stats::default(), Stats::default());
+        for (i, &area) in self.areas.iter().enumerate() {
+            let s = field.recovery.triangle(i, field.u);
+            all.add(s.von_mises(), area);
+            pressure.add(-(s.xx + s.yy + s.zz) / 3.0, area);
+        }
+        (all, pressure)
+    }
+
     /// The plan for the 3-node `mesh` (for `tri6`, its corners: the 6-node triangles and
     /// lines are numbered as theirs, and straight-sided).
     pub fn new(mesh: &Mesh2d) -> Result<Self, SceneError> {
@@ -121,12 +138,7 @@ impl OutputPlan {
         }
         let (mean, max, pressure) = match cavity {
             Some(field) => {
-                let (mut all, mut pressure) = (Stats::default(), Stats::default());
-                for (i, &area) in self.areas.iter().enumerate() {
-                    let s = field.recovery.triangle(i, field.u);
-                    all.add(s.von_mises(), area);
-                    pressure.add(-(s.xx + s.yy + s.zz) / 3.0, area);
-                }
+                let (all, pressure) = self.cavity(field);
                 (all.mean(), all.max, pressure.mean())
             }
             None => (f64::NAN, f64::NAN, f64::NAN),

@@ -2,16 +2,18 @@
 //! damping, the supports, the reduced model order and the whole-number counts. Each
 //! refusal names the parameter and its value.
 
-use super::discretization::Discretization;
+use super::discretization::{Choice, Discretization, Element};
 use super::variables::{
-    tissue_vr, MODEL_ORDER, MODES, SUBDIVISIONS, TISSUES, TRAINING_FREQUENCY, TRAINING_PRESS,
-    WALL_SUPPORT,
+    tissue_vr, DIAPHRAGM_TRANSVERSE_CURVATURE, FLOOR_TRANSVERSE_CURVATURE, MODEL_ORDER, MODES,
+    PRESS_AMPLITUDE, PRESS_FORCE, PRESS_FREQUENCY, PRESS_MODE, PRESS_MUSCLES, SUBDIVISIONS,
+    TARGET_PRESSURE, TISSUES, TRAINING_FREQUENCY, TRAINING_PRESS, WALL_SUPPORT,
+    WALL_TRANSVERSE_CURVATURE,
 };
 use crate::assembly::plane::{Continuum, PlaneProperties, Truss};
 use crate::element::Elastic;
 use crate::error::ModelError;
 use crate::scene::{SceneError, Values};
-use crate::solve::Reduction;
+use crate::solve::{IntegratorKind, Reduction};
 
 /// Per-tissue properties from the current parameter values.
 pub fn properties(values: &Values) -> Result<PlaneProperties, SceneError> {
@@ -20,9 +22,26 @@ pub fn properties(values: &Values) -> Result<PlaneProperties, SceneError> {
         elastic: Elastic::new("cavity", v(0, 0), v(0, 1))?,
         density: v(0, 2),
     };
-    let trusses = (1..4)
+    let mut trusses: Vec<Truss> = (1..4)
         .map(|t| Truss::new(TISSUES[t], v(t, 0), v(t, 1), v(t, 2)))
         .collect::<Result<_, _>>()?;
+    let wall_contracts = match values.string(PRESS_MUSCLES)? {
+        "diaphragm" => false,
+        "diaphragm_and_wall" => true,
+        other => {
+            return Err(ModelError::unknown(
+                "press_muscles",
+                other,
+                "diaphragm or diaphragm_and_wall",
+            )
+            .into())
+        }
+    };
+    trusses[0].contracts = true;
+    trusses[0].transverse_curvature = values.real(DIAPHRAGM_TRANSVERSE_CURVATURE);
+    trusses[1].contracts = wall_contracts;
+    trusses[1].transverse_curvature = values.real(WALL_TRANSVERSE_CURVATURE);
+    trusses[2].transverse_curvature = values.real(FLOOR_TRANSVERSE_CURVATURE);
     Ok(PlaneProperties {
         continua: vec![continuum],
         trusses,
@@ -161,16 +180,82 @@ pub fn order(value: &str) -> Result<Option<ReducedOrder>, SceneError> {
     }
 }
 
+/// What drives the press (`press_mode`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PressMode {
+    /// The pressing force F(t) of `press_force`, `press_amplitude` and `press_frequency`.
+    Force,
+    /// The contents' mean pressure `target_pressure`: each step finds the force that makes
+    /// `cavity_pressure` equal it.
+    Pressure,
+}
+
+/// The press's settings checked together: `press_mode` is known and, for `pressure`, the
+/// order full and the integrator implicit (an explicit step's end state does not depend on the load there);
+/// `press_muscles` is known and a contracting wall free; a transverse curvature on the
+/// 6-node element (the seed's 2-node lines have none).
+pub fn press(
+    values: &Values,
+    choice: Choice,
+    kind: IntegratorKind,
+) -> Result<PressMode, SceneError> {
+    let mode = match values.string(PRESS_MODE)? {
+        "force" => PressMode::Force,
+        "pressure" => PressMode::Pressure,
+        other => return Err(ModelError::unknown("press_mode", other, "force or pressure").into()),
+    };
+    let order = values.string(MODEL_ORDER)?;
+    if mode == PressMode::Pressure && order != "full" {
+        return Err(SceneError::Config(format!(
+            "press_mode = \"pressure\" needs model_order = \"full\" (got `{order}`): the \
+             pressure is found on the full model's field"
+        )));
+    }
+    if mode == PressMode::Pressure && !kind.steps_finite_strain() {
+        return Err(SceneError::Config(format!(
+            "press_mode = \"pressure\" needs an implicit integrator (houbolt or newmark): the \
+             state after a {} step does not depend on the press at its end",
+            kind.name()
+        )));
+    }
+    let wall_contracts = values.string(PRESS_MUSCLES)? == "diaphragm_and_wall";
+    if wall_contracts && values.string(WALL_SUPPORT)? == "fixed" {
+        return Err(SceneError::Config(
+            "press_muscles = \"diaphragm_and_wall\" needs abdominal_wall = \"free\": a held \
+             wall's contraction moves nothing"
+                .into(),
+        ));
+    }
+    let curved = [
+        (
+            DIAPHRAGM_TRANSVERSE_CURVATURE,
+            "diaphragm_transverse_curvature",
+        ),
+        (WALL_TRANSVERSE_CURVATURE, "wall_transverse_curvature"),
+        (FLOOR_TRANSVERSE_CURVATURE, "floor_transverse_curvature"),
+    ]
+    .into_iter()
+    .find(|&(vr, _)| values.real(vr) != 0.0);
+    if let (Some((vr, name)), Element::Tri3) = (curved, choice.element) {
+        return Err(SceneError::Config(format!(
+            "{name} = {} needs element = \"tri6\" (the seed's 2-node lines are flat across)",
+            values.real(vr)
+        )));
+    }
+    Ok(mode)
+}
+
 /// The error for an `abdominal_wall` value other than `free` or `fixed`.
 pub fn wall_error(value: &str) -> SceneError {
     ModelError::unknown("abdominal_wall", value, "free or fixed").into()
 }
 
 /// Why the parameter `vr` cannot act under the present values, if it cannot: the wall's
-/// properties with the wall held (every node of it is), the training range of a model that
-/// is not trained, the basis size of the full order.
+/// properties (its curvature too) with the wall held (every node of it is), the training
+/// range of a model that is not trained, the basis size of the full order, the press of the
+/// mode not chosen.
 pub fn inert(values: &Values, vr: u32) -> Option<&'static str> {
-    let wall = (tissue_vr(2, 0)..=tissue_vr(2, 3)).contains(&vr);
+    let wall = (tissue_vr(2, 0)..=tissue_vr(2, 3)).contains(&vr) || vr == WALL_TRANSVERSE_CURVATURE;
     if wall && values.string(WALL_SUPPORT).is_ok_and(|w| w == "fixed") {
         return Some(
             "abdominal_wall = \"fixed\" holds every node of the wall, so its properties act \
@@ -183,6 +268,13 @@ pub fn inert(values: &Values, vr: u32) -> Option<&'static str> {
     }
     if vr == MODES && order == "full" {
         return Some("the full order has no basis: modes acts with a reduced model_order");
+    }
+    let pressure = values.string(PRESS_MODE).is_ok_and(|m| m == "pressure");
+    if vr == TARGET_PRESSURE && !pressure {
+        return Some("the press follows press_force and press_amplitude: target_pressure acts with press_mode = \"pressure\"");
+    }
+    if [PRESS_AMPLITUDE, PRESS_FREQUENCY, PRESS_FORCE].contains(&vr) && pressure {
+        return Some("press_mode = \"pressure\" drives the press by target_pressure alone");
     }
     None
 }

@@ -7,7 +7,8 @@ use super::build::FullOrder;
 use super::config::PelvisConfig;
 use super::discretization::Choice;
 use super::outputs::{self, Field};
-use super::parameters::{modes, order, order_allows, properties, subdivisions};
+use super::parameters::{modes, order, order_allows, press, properties, subdivisions};
+use super::pressure::{find_force, Found};
 use super::reduced::{ReducedSystem, Training};
 use super::stepping::{pressing, step_halving, HALVINGS};
 use super::training::TrainingRange;
@@ -68,6 +69,7 @@ pub fn check(values: &Values) -> Result<(), SceneError> {
     subdivisions(values)?;
     modes(values)?;
     properties(values)?;
+    press(values, choice, kind)?;
     Ok(())
 }
 
@@ -162,21 +164,97 @@ impl Simulation {
     }
 
     /// Takes `steps` steps of `dt` under the pressing force `force(τ)` at integrator time τ.
-    /// A `dt` within 1e-9 relative of the prepared one reuses the factorization: importers
-    /// compute h as a difference of communication points, which jitters in the last bits.
     pub fn advance(
         &mut self,
-        mut dt: f64,
+        dt: f64,
         steps: u64,
         force: impl Fn(f64) -> f64,
     ) -> Result<(), SceneError> {
+        let dt = self.prepared(dt)?;
         let (structure, unit) = stepped(&self.reduced, &self.full);
+        let mut load = pressing(force, unit, self.full.contracting());
+        for _ in 0..steps {
+            step_halving(self.integrator.as_mut(), structure, &mut load, dt, HALVINGS)?;
+        }
+        self.expanded = false;
+        Ok(())
+    }
+
+    /// Takes `steps` steps of `dt`, each under the pressing force that makes the contents'
+    /// mean pressure at its end the target (MPa), which runs linearly from the one `last`
+    /// met to `target` at the last step: the step taken again from where it started with
+    /// each trial force of [`find_force`], from the last step's force and slope. Returns
+    /// the last step's.
+    pub fn advance_at_pressure(
+        &mut self,
+        dt: f64,
+        steps: u64,
+        target: f64,
+        mut last: Found,
+    ) -> Result<Found, SceneError> {
+        let from = last.target;
+        let dt = self.prepared(dt)?;
+        // Trials overwrite the expanded field; it is current again only after the last.
+        self.expanded = false;
+        let Self {
+            full,
+            integrator,
+            reduced,
+            u_full,
+            u_free,
+            expanded,
+            ..
+        } = self;
+        let (structure, unit) = stepped(reduced, full);
+        for j in 1..=steps {
+            let share = j as f64 / steps as f64;
+            let goal = if j == steps {
+                target
+            } else {
+                from + share * (target - from)
+            };
+            // Taken again on the factorization in use, not the one the checkpoint kept.
+            let start = Checkpoint {
+                tangent_at: None,
+                ..integrator.checkpoint()
+            };
+            let mut fresh = true;
+            last = find_force(goal, last, |force| {
+                if !std::mem::take(&mut fresh) {
+                    integrator.resume(structure, &start)?;
+                }
+                let mut load = pressing(|_| force, unit, full.contracting());
+                match step_halving(integrator.as_mut(), structure, &mut load, dt, HALVINGS) {
+                    Ok(()) => {}
+                    Err(ModelError::NotConverged { .. } | ModelError::Inverted { .. }) => {
+                        // Halving left the integrator prepared for a shorter step.
+                        integrator.prepare(structure, dt)?;
+                        return Ok(None);
+                    }
+                    Err(e) => return Err(e.into()),
+                }
+                expand_into(full, reduced, &integrator.state().u, u_free, u_full);
+                Ok(Some(full.plan.pressure(&full.field(u_full))))
+            })?;
+        }
+        // The last trial stands, and its field is expanded.
+        *expanded = true;
+        Ok(last)
+    }
+
+    /// Prepares the integrator for steps of `dt` and returns the step it takes: a `dt`
+    /// within 1e-9 relative of the prepared one reuses the factorization (importers compute
+    /// h as a difference of communication points, which jitters in the last bits). An
+    /// explicit scheme's step above its stability limit is refused.
+    fn prepared(&mut self, dt: f64) -> Result<f64, SceneError> {
+        let (structure, _) = stepped(&self.reduced, &self.full);
         let integrator = &mut self.integrator;
-        if (dt - integrator.dt()).abs() <= 1e-9 * dt {
-            dt = integrator.dt();
+        let dt = if (dt - integrator.dt()).abs() <= 1e-9 * dt {
+            integrator.dt()
         } else {
             integrator.prepare(structure, dt)?;
-        }
+            dt
+        };
         if let Some(limit) = integrator.critical_time_step() {
             if dt > limit {
                 return Err(SceneError::Unstable {
@@ -186,12 +264,39 @@ impl Simulation {
                 });
             }
         }
-        let mut load = pressing(force, unit, self.full.contracting());
-        for _ in 0..steps {
-            step_halving(integrator.as_mut(), structure, &mut load, dt, HALVINGS)?;
-        }
-        self.expanded = false;
-        Ok(())
+        Ok(dt)
+    }
+
+    /// Starts at rest at `t0`, as [`start`](Self::start) does, in equilibrium with the
+    /// pressing force that makes the contents' mean pressure `target` (MPa): found over
+    /// static solves from `guess` (none for a target of 0). Returns the force and slope.
+    pub fn start_at_pressure(
+        &mut self,
+        t0: f64,
+        dt: f64,
+        target: f64,
+        guess: Found,
+    ) -> Result<Found, SceneError> {
+        let found = match target > 0.0 {
+            true => find_force(
+                target,
+                guess,
+                |force| match super::stepping::static_displacement(&self.full, force) {
+                    Ok(u) => Ok(Some(self.full.plan.pressure(&self.full.field(&u)))),
+                    Err(SceneError::Model(
+                        ModelError::NotConverged { .. } | ModelError::Inverted { .. },
+                    )) => Ok(None),
+                    Err(e) => Err(e),
+                },
+            )?,
+            false => Found {
+                force: 0.0,
+                target,
+                ..guess
+            },
+        };
+        self.start(t0, dt, |_| found.force)?;
+        Ok(found)
     }
 
     /// Brings the displacement of all dofs up to date (expanding the reduced coordinates
@@ -199,14 +304,13 @@ impl Simulation {
     pub fn expand(&mut self) {
         if !self.expanded {
             let u = &self.integrator.state().u;
-            let bc = self.full.structure.dirichlet();
-            match &self.reduced {
-                Some(r) => {
-                    r.basis.expand(u, &mut self.u_free);
-                    bc.expand(&self.u_free, &mut self.u_full);
-                }
-                None => bc.expand(u, &mut self.u_full),
-            }
+            expand_into(
+                &self.full,
+                &self.reduced,
+                u,
+                &mut self.u_free,
+                &mut self.u_full,
+            );
             self.expanded = true;
         }
     }
@@ -303,6 +407,25 @@ impl Simulation {
         self.reduced = Some(new);
         resumed?;
         Ok(())
+    }
+}
+
+/// The displacement of all dofs of the stepped system's unknowns `u` (a reduced model's
+/// coordinates expanded through its free dofs, `u_free`) into `u_full`.
+fn expand_into(
+    full: &FullOrder,
+    reduced: &Option<ReducedSystem>,
+    u: &[f64],
+    u_free: &mut [f64],
+    u_full: &mut [f64],
+) {
+    let bc = full.structure.dirichlet();
+    match reduced {
+        Some(r) => {
+            r.basis.expand(u, u_free);
+            bc.expand(u_free, u_full);
+        }
+        None => bc.expand(u, u_full),
     }
 }
 

@@ -8,6 +8,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::pressure::Found;
 use crate::scene::{Inert, ValuesState};
 use crate::solve::Checkpoint;
 
@@ -22,6 +23,8 @@ pub struct State {
     /// Where the press's phase was last set (time s, phase rad).
     #[serde(default)]
     pub(super) phase_origin: [f64; 2],
+    /// In `press_mode = "pressure"`, the last step's pressing force, slope and target.
+    pub(super) found: Found,
     pub(super) stiffness_changed: bool,
     pub(super) warnings: Vec<String>,
     pub(super) warned_validity: bool,

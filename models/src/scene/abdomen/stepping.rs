@@ -6,7 +6,7 @@
 
 use std::sync::Arc;
 
-use super::build::{FullOrder, DIAPHRAGM};
+use super::build::FullOrder;
 use crate::assembly::quadratic_plane::{PlaneBody, SharedTension};
 use crate::assembly::InternalForces;
 use crate::error::ModelError;
@@ -57,7 +57,7 @@ pub(super) fn step_halving(
 
 /// The load of the pressing force F(t) = `force(t)` with its pattern `unit`: f(t) =
 /// F(t) · unit — or at finite strain, `contracting` given ([`FullOrder::contracting`]), the
-/// diaphragm's active tension T = F/Θ₀ for F > 0 (set where the internal forces read it; a
+/// contracting muscles' active tension T = F/Θ₀ for F > 0 (set where the internal forces read it; a
 /// muscle pulls, it does not push) and the load F · unit for F < 0 (drawn out: the suction
 /// of the chest, a dead load).
 pub(super) fn pressing<'a>(
@@ -100,7 +100,7 @@ pub fn static_displacement(full: &FullOrder, force: f64) -> Result<Vec<f64>, Sce
 /// `forces` (N/mm) in turn, each solve by Newton's method from the last equilibrium.
 pub fn static_ramp(full: &FullOrder, forces: &[f64]) -> Result<Vec<Vec<f64>>, SceneError> {
     let tension = Arc::new(SharedTension::default());
-    let Some(body) = full.disc.body(&full.props, DIAPHRAGM, &tension) else {
+    let Some(body) = full.disc.body(&full.props, &tension) else {
         return Err(SceneError::Config(
             "a static ramp needs finite kinematics".into(),
         ));

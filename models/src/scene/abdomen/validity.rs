@@ -6,14 +6,18 @@
 //!   0.499 (`tests/locking.rs`, `abdomen_elements.rs`); the mixed element does not lock;
 //! - **linear kinematics**: a principal strain beyond [`SMALL_STRAIN_LIMIT`] (5 %);
 //! - **the reduced model** (`model_order = "reduced"`): a press outside the range it is
-//!   trained for ([`super::training::TrainingRange`]).
+//!   trained for ([`super::training::TrainingRange`]);
+//! - **the membranes' law** (finite kinematics, full order): a line stretched beyond
+//!   [`MEMBRANE_STRETCH_LIMIT`].
 //!
-//! Finite kinematics has no limit of its own here: the membranes go slack in compression
-//! as thin sheets do ([`crate::element::membrane`]), and an element turned inside out or a
-//! step without equilibrium is an error, not a warning.
+//! The membranes go slack in compression as thin sheets do ([`crate::element::membrane`]),
+//! and an element turned inside out or a step without equilibrium is an error, not a
+//! warning.
 
 use super::discretization::Element;
 use super::simulation::Simulation;
+use super::variables::TISSUES;
+use crate::element::membrane::nominal_stress;
 use crate::element::mixed::Formulation;
 use crate::error::seconds;
 use crate::scene::SMALL_STRAIN_LIMIT;
@@ -66,4 +70,42 @@ pub fn kinematics(sim: &mut Simulation, time: f64) -> Option<String> {
 pub fn training(sim: &Simulation, extremes: [f64; 2], frequency: f64) -> Option<String> {
     let hyper = sim.reduced.as_ref()?.hyper.as_ref()?;
     hyper.range.check(extremes, frequency)
+}
+
+/// The stretch of a membrane beyond which its law stops being valid: Hencky's nominal
+/// stress P = E ln λ / λ has lost three quarters of its stiffness at rest there (dP/dλ =
+/// E (1 − ln λ) / λ² = 0.26 E at λ = 1.5) and rises to its maximum E/e at λ = e, where a
+/// pressed membrane necks — measured: driven by the contents' pressure, the pelvic floor
+/// snaps through as its largest stress reaches E/e (normal pelvis, 9.1 kPa,
+/// docs/theory/abdomen.md) — whereas soft tissue stiffens as it is stretched.
+pub const MEMBRANE_STRETCH_LIMIT: f64 = 1.5;
+
+/// The membranes' warning at time `time`, if a line (in full order, at finite kinematics)
+/// carries a passive mean stress beyond its law's at [`MEMBRANE_STRETCH_LIMIT`].
+pub fn membranes(sim: &mut Simulation, time: f64) -> Option<String> {
+    if !sim.full.disc.choice.finite || sim.reduced.is_some() {
+        return None;
+    }
+    sim.expand();
+    let full = &sim.full;
+    let regions = full.disc.mesh().line_regions();
+    let (line, excess) = (0..regions.len())
+        .map(|i| {
+            let young = full.props.trusses[usize::from(regions[i])].young;
+            let limit = nominal_stress(young, MEMBRANE_STRETCH_LIMIT);
+            (i, full.recovery.line(i, sim.u_full()) / limit)
+        })
+        .filter(|(_, excess)| excess.is_finite())
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    (excess > 1.0).then(|| {
+        format!(
+            "at t = {} s the {} is stretched beyond {MEMBRANE_STRETCH_LIMIT} (its stress {:.1} \
+             times the law's there), where its Hencky law has lost three quarters of its \
+             stiffness and soft tissue would stiffen instead: membrane forces and displacements beyond it \
+             are not those of tissue (reduce the press)",
+            seconds(time),
+            TISSUES[usize::from(regions[line]) + 1],
+            excess
+        )
+    })
 }
