@@ -1,7 +1,8 @@
 //! Abdomen scene benchmarks on the default configuration (6-node triangles graded towards
 //! the junctions, 1,013 of them; Houbolt at the default 10 ms step): the finite-strain
 //! default in full and in hyper-reduced order, the linear opt-in in full order and in modal
-//! order (80 load-dependent Ritz vectors); one step of each discretization and formulation;
+//! order (80 load-dependent Ritz vectors); a step of the pressure-driven press; one step of
+//! each discretization and formulation;
 //! the FMU's default experiment as a scene run (2 s, 200 steps).
 //!
 //! Run: `cargo bench -p models --bench abdomen`.
@@ -85,6 +86,30 @@ fn setup(bencher: Bencher, model: &str) {
 fn step(bencher: Bencher, model: &str) {
     let state = pressed(initialized(model), 0.5);
     from_state(bencher, &state, |s, t| s.do_step(t, DT).unwrap());
+}
+
+/// One 10 ms step of the pressure-driven press (`press_mode = "pressure"`, the defaults
+/// otherwise) with the target rising from 2.00 to 2.04 kPa, from the state after a 0.5 s
+/// ramp to 2 kPa: the step is taken again for each trial force (the cost against `step`).
+#[divan::bench(args = ["finite", "linear"], sample_count = 10, sample_size = 1)]
+fn step_at_pressure(bencher: Bencher, model: &str) {
+    let mut s = Abdomen::new();
+    s.set_str("press_mode", "pressure").unwrap();
+    if model == "linear" {
+        s.set_str("kinematics", "linear").unwrap();
+    }
+    s.initialize(0.0).unwrap();
+    let mut t = 0.0;
+    for k in 1..=50 {
+        s.set("target_pressure", 0.002 * f64::from(k) / 50.0)
+            .unwrap();
+        s.do_step(t, DT).unwrap();
+        t += DT;
+    }
+    from_state(bencher, &(s.save(), t), |s, t| {
+        s.set("target_pressure", 0.00204).unwrap();
+        s.do_step(t, DT).unwrap();
+    });
 }
 
 /// One step and the outputs read: `floor` = all but the two cavity-wide von Mises

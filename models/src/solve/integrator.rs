@@ -122,6 +122,15 @@ impl Checkpoint {
         }
     }
 
+    /// The checkpoint without its kept tangents (its starter's too): an integrator resumes
+    /// it on the factorization it is prepared with — a step taken again under another load,
+    /// whose tension the kept tangents were not taken at.
+    pub fn without_tangents(mut self) -> Self {
+        self.tangent_at = None;
+        self.starter = self.starter.map(|s| Box::new(s.without_tangents()));
+        self
+    }
+
     /// Refuses a checkpoint of another scheme, step size or system size.
     pub(crate) fn check(&self, kind: IntegratorKind, dt: f64, n: usize) -> Result<(), ModelError> {
         let fits = self.kind == kind

@@ -213,11 +213,8 @@ impl Simulation {
             } else {
                 from + share * (target - from)
             };
-            // Taken again on the factorization in use, not the one the checkpoint kept.
-            let start = Checkpoint {
-                tangent_at: None,
-                ..integrator.checkpoint()
-            };
+            // Taken again on the factorization in use, not the ones the checkpoint kept.
+            let start = integrator.checkpoint().without_tangents();
             let mut fresh = true;
             last = find_force(goal, last, |force| {
                 if !std::mem::take(&mut fresh) {
@@ -226,7 +223,11 @@ impl Simulation {
                 let mut load = pressing(|_| force, unit, full.contracting());
                 match step_halving(integrator.as_mut(), structure, &mut load, dt, HALVINGS) {
                     Ok(()) => {}
-                    Err(ModelError::NotConverged { .. } | ModelError::Inverted { .. }) => {
+                    Err(
+                        ModelError::NotConverged { .. }
+                        | ModelError::Inverted { .. }
+                        | ModelError::Singular { .. },
+                    ) => {
                         // Halving left the integrator prepared for a shorter step.
                         integrator.prepare(structure, dt)?;
                         return Ok(None);
