@@ -45,7 +45,6 @@ use super::{
     SceneState, Values, ValuesState, Variable,
 };
 use crate::budget;
-use crate::error::ModelError;
 use crate::solve::{IntegratorKind, ModalBasis, Structure};
 
 /// What the scene is, in one line (the FMUs' `description`).
@@ -510,12 +509,11 @@ impl Scene for Abdomen {
         if vr == MODEL_ORDER {
             parameters::order(value)?;
         }
-        if vr == PRESS_MODE && !matches!(value, "force" | "pressure") {
-            return Err(ModelError::unknown("press_mode", value, "force or pressure").into());
+        if vr == PRESS_MODE {
+            parameters::press_mode(value)?;
         }
-        if vr == PRESS_MUSCLES && !matches!(value, "diaphragm" | "diaphragm_and_wall") {
-            let choices = "diaphragm or diaphragm_and_wall";
-            return Err(ModelError::unknown("press_muscles", value, choices).into());
+        if vr == PRESS_MUSCLES {
+            parameters::wall_contracts(value)?;
         }
         if vr == ELEMENT {
             discretization::element(value)?;

@@ -25,18 +25,7 @@ pub fn properties(values: &Values) -> Result<PlaneProperties, SceneError> {
     let mut trusses: Vec<Truss> = (1..4)
         .map(|t| Truss::new(TISSUES[t], v(t, 0), v(t, 1), v(t, 2)))
         .collect::<Result<_, _>>()?;
-    let wall_contracts = match values.string(PRESS_MUSCLES)? {
-        "diaphragm" => false,
-        "diaphragm_and_wall" => true,
-        other => {
-            return Err(ModelError::unknown(
-                "press_muscles",
-                other,
-                "diaphragm or diaphragm_and_wall",
-            )
-            .into())
-        }
-    };
+    let wall_contracts = wall_contracts(values.string(PRESS_MUSCLES)?)?;
     trusses[0].contracts = true;
     trusses[0].transverse_curvature = values.real(DIAPHRAGM_TRANSVERSE_CURVATURE);
     trusses[1].contracts = wall_contracts;
@@ -190,6 +179,28 @@ pub enum PressMode {
     Pressure,
 }
 
+/// Parses the `press_mode` parameter.
+pub fn press_mode(value: &str) -> Result<PressMode, SceneError> {
+    match value {
+        "force" => Ok(PressMode::Force),
+        "pressure" => Ok(PressMode::Pressure),
+        other => Err(ModelError::unknown("press_mode", other, "force or pressure").into()),
+    }
+}
+
+/// Parses the `press_muscles` parameter: whether the abdominal wall contracts with the
+/// diaphragm.
+pub fn wall_contracts(value: &str) -> Result<bool, SceneError> {
+    match value {
+        "diaphragm" => Ok(false),
+        "diaphragm_and_wall" => Ok(true),
+        other => {
+            let choices = "diaphragm or diaphragm_and_wall";
+            Err(ModelError::unknown("press_muscles", other, choices).into())
+        }
+    }
+}
+
 /// The press's settings checked together: `press_mode` is known and, for `pressure`, the
 /// order full and the integrator implicit (an explicit step's end state does not depend on the load there);
 /// `press_muscles` is known and a contracting wall free; a transverse curvature on the
@@ -199,11 +210,7 @@ pub fn press(
     choice: Choice,
     kind: IntegratorKind,
 ) -> Result<PressMode, SceneError> {
-    let mode = match values.string(PRESS_MODE)? {
-        "force" => PressMode::Force,
-        "pressure" => PressMode::Pressure,
-        other => return Err(ModelError::unknown("press_mode", other, "force or pressure").into()),
-    };
+    let mode = press_mode(values.string(PRESS_MODE)?)?;
     let order = values.string(MODEL_ORDER)?;
     if mode == PressMode::Pressure && order != "full" {
         return Err(SceneError::Config(format!(
@@ -218,7 +225,7 @@ pub fn press(
             kind.name()
         )));
     }
-    let wall_contracts = values.string(PRESS_MUSCLES)? == "diaphragm_and_wall";
+    let wall_contracts = wall_contracts(values.string(PRESS_MUSCLES)?)?;
     if wall_contracts && values.string(WALL_SUPPORT)? == "fixed" {
         return Err(SceneError::Config(
             "press_muscles = \"diaphragm_and_wall\" needs abdominal_wall = \"free\": a held \
