@@ -75,6 +75,7 @@ fn choices(model: &str, name: &str) -> (&'static [&'static str], Option<&'static
         ("abdomen", "costal_margin") => (&["fixed", "free"], "loose"),
         ("abdomen", "press_mode") => (&["force", "pressure"], "iap"),
         ("abdomen", "press_muscles") => (&["diaphragm", "diaphragm_and_wall"], "glutes"),
+        ("abdomen", "membrane_law") => (&["hencky", "neo-hookean"], "ogden"),
         _ => panic!("string parameter `{name}` of {model} has no choices listed in this test"),
     };
     (valid, Some(wrong))

@@ -53,7 +53,8 @@ enum Command {
     /// Runs (or resumes) the sweep of an experiment file
     Sweep {
         /// The experiment: a TOML file, or the name of a shipped one (pelvis_sweep,
-        /// cutblock_sweep)
+        /// cutblock_sweep, and the clinical load presets clinical_rest, clinical_cough,
+        /// clinical_valsalva, clinical_bear_down)
         experiment: PathBuf,
         /// Output folder [default: report/<experiment name>]; re-running resumes it
         #[arg(long)]
@@ -129,6 +130,17 @@ enum Command {
         /// Only the configurations, as the quick report runs them (the sweep takes minutes)
         #[arg(long)]
         quick: bool,
+    },
+    /// Pelvis rankings with their confidence: samples of the uncertain tissue properties,
+    /// sections, wall setting and clinical load, each run on the five shipped
+    /// configurations; rankings.csv gives, for each pair, the fraction of samples in which
+    /// the first loads the pelvic floor more (by floor_stress_mean and floor_stress_max)
+    Rankings {
+        /// Samples (each runs on the five configurations), at least 1
+        #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u64).range(1..))]
+        samples: u64,
+        #[arg(long, default_value = "report/rankings")]
+        out: PathBuf,
     },
     /// The default abdomen's matrices, load and a Houbolt run for the peer benchmark
     /// (benches/peer/run.sh), with this project's step, solve and factorization times on them
@@ -259,6 +271,11 @@ fn run(cli: Cli) -> Result<Option<PathBuf>> {
             model_order::section,
             if quick { Depth::Quick } else { Depth::Full },
         )?,
+        Command::Rankings { samples, out } => {
+            let mut report = report::Report::create(&out, "Pelvis rankings")?;
+            report::rankings::rankings(&mut report, samples as usize)?;
+            report.finish()?
+        }
         Command::Describe { scene, format } => {
             print!("{}", variables::describe(&scene, format)?);
             return Ok(None);

@@ -196,9 +196,14 @@ fn simulate_prints_the_series_and_names_bad_settings() {
 #[test]
 fn shipped_experiments_load() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../experiments");
-    for (name, cases) in [("pelvis_sweep", 5 + 32 + 5 * 5), ("cutblock_sweep", 15)] {
+    let clinical = ["rest", "cough", "valsalva", "bear_down"].map(|c| (format!("clinical_{c}"), 5));
+    let shipped = [
+        ("pelvis_sweep".into(), 5 + 32 + 5 * 5),
+        ("cutblock_sweep".into(), 15),
+    ];
+    for (name, cases) in shipped.into_iter().chain(clinical) {
         let file = Experiment::load(&dir.join(format!("{name}.toml"))).unwrap();
-        let shipped = Experiment::shipped(name).unwrap();
+        let shipped = Experiment::shipped(&name).unwrap();
         assert_eq!(shipped.source, file.source, "{name}");
         assert_eq!(shipped.cases.len(), cases, "{name}");
     }
@@ -322,7 +327,8 @@ fn the_binary_runs_from_anywhere() {
 }
 
 /// The main job (`harness report`, quick) writes every section with the files it links:
-/// both scenes, the seed findings, an identification with its JSON, both speed–error
+/// both scenes, the seed findings, the abdomen beside the body and at clinical pressures,
+/// the pelvis rankings, an identification with its JSON, both speed–error
 /// studies, the model orders, both shipped sweeps, the fields, and the section times.
 #[test]
 fn the_quick_report_writes_every_section() {
@@ -335,6 +341,8 @@ fn the_quick_report_writes_every_section() {
         "## Verification",
         "## Seed 003's findings on both kinematics",
         "## The abdomen beside the body",
+        "## The abdomen at clinical pressures",
+        "## Pelvis rankings with their confidence",
         "## Material identification on the shipped set C",
         "## Speed versus error, abdomen",
         "## Speed versus error, cut block",
@@ -355,6 +363,9 @@ fn the_quick_report_writes_every_section() {
             "speed_error.csv",
             "pareto.png",
             "physiology.png",
+            "rankings.csv",
+            "rankings_samples.csv",
+            "rankings.png",
             "cutblock_speed_error.csv",
             "cutblock_pareto.png",
             "pelvis_sweep_quick/report.md",
@@ -366,6 +377,15 @@ fn the_quick_report_writes_every_section() {
         ],
     );
     assert!(report.contains("Quick report"));
+    // Ten pairs of the five configurations by two quantities, each p a fraction.
+    let rankings = std::fs::read_to_string(out.join("rankings.csv")).unwrap();
+    let ps: Vec<f64> = rankings
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(3).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(ps.len(), 20, "{rankings}");
+    assert!(ps.iter().all(|p| (0.0..=1.0).contains(p)), "{rankings}");
     // Three model orders over the five shipped configurations, a row each and a header.
     let orders = std::fs::read_to_string(out.join("model_orders.csv")).unwrap();
     assert_eq!(orders.lines().count(), 16, "{orders}");
@@ -382,4 +402,15 @@ fn the_quick_report_writes_every_section() {
     let e = number(&fit["E_MPa"]["value"]);
     assert!(1.96 * number(&fit["E_MPa"]["sigma"]) < 0.01 * e, "{fit}");
     assert!(1.96 * number(&fit["nu"]["sigma"]) < 0.01, "{fit}");
+}
+
+/// `harness rankings` refuses an empty sample by name, before it writes anything.
+#[test]
+fn rankings_refuse_no_samples() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("rankings");
+    let o = harness(&["rankings", "--samples", "0", "--out", out.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("--samples"), "{err}");
+    assert!(!out.exists(), "nothing written");
 }

@@ -245,6 +245,54 @@ def test_a_ramp_of_the_target_pressure_is_met_at_every_step(configuration):
     assert max(gaps) <= 1e-6, gaps
 
 
+def bearing_down(k):
+    """The target of step k (50 ms): up to 8 kPa (a Valsalva manoeuvre's median) over 1 s,
+    held 0.2 s, up to 10 kPa (bearing down's) over 0.5 s, held 0.2 s."""
+    if k < 24:
+        return 0.008 * min(1.0, (k + 1) / 20)
+    return 0.008 + 0.002 * min(1.0, (k - 23) / 10)
+
+
+@pytest.mark.parametrize("configuration", ["normal", "narrow", "wide", "lordotic", "tilted"])
+def test_neo_hookean_sheets_hold_valsalva_and_bearing_down(configuration):
+    """Through the FMU (FMI 2.0) with membrane_law = neo-hookean, a ramp of target_pressure
+    to 8 kPa, held, then to 10 kPa, held, ends every step with cavity_pressure within 10⁻⁶
+    of the target, on each shipped configuration (Neurourol Urodyn 40 (2021) 783: medians
+    80.3 and 101 cmH₂O). Every call returns OK but the one step on which the floor passes
+    the membranes' stretch limit (1.5; from 6.75 to 8 kPa by configuration): that step
+    returns Warning and logs that message alone, as FMI 2.0 §2.1.3 has a successful call
+    with a non-critical problem do. The floor's largest stress rises with the pressure, by
+    more than a tenth from 8 to 10 kPa (measured +24 % normal, +28 % wide): Hencky's sheets
+    hold the targets too, dynamically, but their floor necks past its peak stress E/e and its
+    largest stress falls (measured 16.07 → 15.94 kPa on the normal pelvis: this test fails
+    with them)."""
+    logged = []
+    strings = CLINICAL_STRINGS + [("configuration", configuration),
+                                  ("membrane_law", "neo-hookean")]
+    s, step, set_target, close = raw_stepping("fmi2", "abdomen", logged, strings, CLINICAL_REALS)
+    vrs = {v.name: v.valueReference
+           for v in read_model_description(fmu("abdomen", "fmi2")).modelVariables}
+    statuses, gaps, ends, stresses = [], [], {}, {}
+    try:
+        for k in range(38):
+            target = bearing_down(k)
+            set_target("target_pressure", target)
+            statuses.append(step(0.05 * k, 0.05))
+            p = s.getReal([vrs["cavity_pressure"]])[0]
+            gaps.append(abs(p - target) / target)
+            if k in (23, 37):
+                ends[target] = p
+                stresses[target] = s.getReal([vrs["floor_stress_max"]])[0]
+    finally:
+        close()
+    assert sorted(set(statuses)) == [0, 1] and statuses.count(1) == 1, statuses
+    assert max(gaps) <= 1e-6, gaps
+    assert abs(ends[0.008] / 0.008 - 1) <= 0.01 and abs(ends[0.01] / 0.01 - 1) <= 0.01, ends
+    assert stresses[0.01] > 1.1 * stresses[0.008], stresses
+    warnings = [text for status, text in logged if status != 0]
+    assert len(warnings) == 1 and b"stretched beyond 1.5" in warnings[0], logged
+
+
 def test_fmi3_exposes_profiles_as_arrays_and_fmi2_as_indexed_scalars():
     r3 = simulate_fmu(fmu("cutblock", "fmi3"), start_values={**SMALL_BLOCK, "pull": 4.0},
                       stop_time=0.5, output_interval=0.5, output=["profile_x50"])

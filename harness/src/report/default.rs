@@ -8,15 +8,16 @@ use anyhow::Result;
 
 use super::identification;
 use super::{
-    blade_path, cut_speed_error, fields, findings, model_order, physiology, speed_error, sweep,
-    verification, Depth, Report, Section,
+    blade_path, cut_speed_error, fields, findings, model_order, physiology, rankings, speed_error,
+    sweep, verification, Depth, Report, Section,
 };
 
 /// The default report's sections with their names, in order.
-pub const SECTIONS: [(&str, Section); 11] = [
+pub const SECTIONS: [(&str, Section); 12] = [
     ("verification", verification::section),
     ("seed 003's findings", findings::section),
     ("the abdomen beside the body", physiology::section),
+    ("pelvis rankings", rankings::section),
     ("identification", identification::shipped),
     ("speed versus error, abdomen", speed_error::section),
     ("speed versus error, cut block", cut_speed_error::section),

@@ -24,6 +24,7 @@ pub mod markdown;
 pub mod model_order;
 pub mod physiology;
 pub mod plot;
+pub mod rankings;
 pub mod results;
 pub mod series;
 pub mod speed_error;

@@ -25,6 +25,7 @@ pub mod model_orders;
 pub mod peer;
 pub mod physiology;
 pub mod profiles;
+pub mod rankings;
 pub mod speed_error;
 pub mod stability;
 pub mod verification;

@@ -2,11 +2,13 @@
 //! range of intra-abdominal pressures people reach — floor descent, apex and wall
 //! displacement, pelvic-floor stress, and the mean pressure of the contents, the model's
 //! intra-abdominal pressure — on the defaults (the wall braced) and with the wall free,
-//! beside published figures ([`PUBLISHED`]).
+//! beside published figures ([`PUBLISHED`]); and at the clinical pressures themselves
+//! (issue 53), driven by the contents' pressure in the clinical settings ([`clinical`]).
 
 use anyhow::Result;
 use models::scene::abdomen::Abdomen;
 use models::scene::Scene;
+use rayon::prelude::*;
 
 /// The presses (N per mm of depth) the study solves for: 0.2 to 1.4 N/mm over the default
 /// diaphragm of 181 mm (its line elements' length), a nominal 1.1 to 7.7 kPa.
@@ -102,6 +104,74 @@ fn point(s: &Abdomen, press: f64, length: f64) -> Result<Point> {
         floor_mean: 1e3 * o[0],
         floor_max: 1e3 * o[1],
     })
+}
+
+/// The shipped pelvis configurations.
+pub const CONFIGURATIONS: [&str; 5] = ["normal", "narrow", "wide", "lordotic", "tilted"];
+
+/// The clinical pressures of the side-by-side (kPa): about sitting, a light effort, a
+/// Valsalva manoeuvre (median 7.9 kPa) and bearing down (9.9 kPa; Neurourol Urodyn 40
+/// (2021) 783–790).
+pub const CLINICAL_PRESSURES: [f64; 4] = [2.0, 4.0, 8.0, 10.0];
+
+/// The clinical settings (docs/theory/abdomen.md) with the neo-Hookean sheets, which hold
+/// bearing down: the text settings.
+pub const CLINICAL_STRINGS: [(&str, &str); 3] = [
+    ("press_mode", "pressure"),
+    ("formulation", "mixed"),
+    ("membrane_law", "neo-hookean"),
+];
+
+/// The clinical settings' numbers (on the 300-triangle mesh of the FMU tests).
+pub const CLINICAL_REALS: [(&str, f64); 4] = [
+    ("cavity_nu", 0.4999),
+    ("diaphragm_transverse_curvature", 0.01),
+    ("floor_transverse_curvature", 1.0 / 60.0),
+    ("target_triangles", 300.0),
+];
+
+/// The static response of `configuration` with `changes` to the clinical settings at each
+/// of [`CLINICAL_PRESSURES`]: a start in equilibrium at the target pressure (the force
+/// found is the point's press; its nominal pressure is not defined and left NaN).
+pub fn clinical(configuration: &str, changes: &[(&str, f64)]) -> Vec<Result<Point, String>> {
+    CLINICAL_PRESSURES
+        .par_iter()
+        .map(|&kpa| {
+            clinical_point(configuration, changes, kpa).map_err(|e| format!("{kpa} kPa: {e:#}"))
+        })
+        .collect()
+}
+
+fn clinical_point(configuration: &str, changes: &[(&str, f64)], kpa: f64) -> Result<Point> {
+    let mut s = clinical_abdomen(configuration, &[], changes, kpa)?;
+    let mut get = |name: &str| s.get(name);
+    Ok(Point {
+        press: get("press_total")?,
+        nominal: f64::NAN,
+        pressure: 1e3 * get("cavity_pressure")?,
+        floor_descent: -get("floor_mid_uy")?,
+        apex_descent: -get("apex_uy")?,
+        wall_bulge: get("wall_mid_ux")?,
+        floor_mean: 1e3 * get("floor_stress_mean")?,
+        floor_max: 1e3 * get("floor_stress_max")?,
+    })
+}
+
+/// The abdomen of `configuration` in the clinical settings with `strings` and `reals`
+/// changed, started in equilibrium at `kpa` kPa.
+pub fn clinical_abdomen(
+    configuration: &str,
+    strings: &[(&str, &str)],
+    reals: &[(&str, f64)],
+    kpa: f64,
+) -> Result<Abdomen> {
+    let mut all_strings = CLINICAL_STRINGS.to_vec();
+    all_strings.push(("configuration", configuration));
+    all_strings.extend_from_slice(strings);
+    let mut all_reals = CLINICAL_REALS.to_vec();
+    all_reals.extend_from_slice(reals);
+    all_reals.push(("target_pressure", 1e-3 * kpa));
+    Ok(Abdomen::initialized(&all_strings, &all_reals)?)
 }
 
 /// A published figure: what was measured, the value, on whom and how, the source.

@@ -27,7 +27,7 @@ use super::simulate::{check_times, InputTable, Schedule, Value};
 
 /// The shipped experiments by name (`experiments/<name>.toml`), compiled in so that a copied
 /// binary runs them without the source tree.
-pub const SHIPPED: [(&str, &str); 2] = [
+pub const SHIPPED: [(&str, &str); 6] = [
     (
         "pelvis_sweep",
         include_str!("../../../experiments/pelvis_sweep.toml"),
@@ -35,6 +35,22 @@ pub const SHIPPED: [(&str, &str); 2] = [
     (
         "cutblock_sweep",
         include_str!("../../../experiments/cutblock_sweep.toml"),
+    ),
+    (
+        "clinical_rest",
+        include_str!("../../../experiments/clinical_rest.toml"),
+    ),
+    (
+        "clinical_cough",
+        include_str!("../../../experiments/clinical_cough.toml"),
+    ),
+    (
+        "clinical_valsalva",
+        include_str!("../../../experiments/clinical_valsalva.toml"),
+    ),
+    (
+        "clinical_bear_down",
+        include_str!("../../../experiments/clinical_bear_down.toml"),
     ),
 ];
 

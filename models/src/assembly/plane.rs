@@ -2,7 +2,7 @@
 //! properties per region tag (tissue).
 
 use super::Assembler;
-use crate::element::membrane::Section;
+use crate::element::membrane::{Law, Section};
 use crate::element::{line2, tri3, Elastic};
 use crate::error::{positive, ModelError};
 use crate::mesh::Mesh2d;
@@ -31,6 +31,8 @@ pub struct Truss {
     pub contracts: bool,
     /// Its curvature across the slice (1/mm; [`Section::transverse_curvature`]).
     pub transverse_curvature: f64,
+    /// Its law in tension at finite strain.
+    pub law: Law,
 }
 
 impl Truss {
@@ -42,6 +44,7 @@ impl Truss {
             density: crate::error::non_negative(&format!("{name}.density"), density)?,
             contracts: false,
             transverse_curvature: 0.0,
+            law: Law::default(),
         })
     }
 
@@ -49,6 +52,7 @@ impl Truss {
     /// depth) where the line contracts, none where it does not.
     pub fn section(&self, tension: f64) -> Section {
         Section {
+            law: self.law,
             young: self.young,
             area: self.area,
             tension: if self.contracts { tension } else { 0.0 },

@@ -113,10 +113,12 @@ pub fn membrane(p: &[[f64; 2]; 3]) -> Line<'_, 3, 3> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::element::membrane::Law;
 
     /// A passive section, flat across the slice.
     fn plain(young: f64, area: f64) -> Section {
         Section {
+            law: Law::Hencky,
             young,
             area,
             tension: 0.0,

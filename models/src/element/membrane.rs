@@ -13,19 +13,29 @@
 //! shorter than 2π N / E_s (measured: a passive diaphragm that carried the press as an arch
 //! wrinkled element by element at a fifth of the default press of the abdomen, and the
 //! diaphragm compressed by a fraction of a kilopascal at the end of a press made the
-//! tangent indefinite on a graded mesh). The law is therefore Hencky's (logarithmic
-//! strain) in tension and slack in compression — the relaxed energy of a membrane, whose
-//! wrinkles it smears out (tension-field theory; Pipkin, IMA J Appl Math 36 (1986) 85–99)
-//! — made smooth: with x = ln λ,
+//! tangent indefinite on a graded mesh). The law is therefore slack in compression — the
+//! relaxed energy of a membrane, whose wrinkles it smears out (tension-field theory;
+//! Pipkin, IMA J Appl Math 36 (1986) 85–99) — made smooth, and in tension one of two
+//! ([`Law`]): with x = ln λ,
 //!
-//! P(λ) = E s(x) / λ,  s(x) = x for x ≥ 0,  s(x) = −δ (1 − e^{x/δ}) for x < 0,
+//! P(λ) = E s(x) / λ,  s(x) = x for x ≥ 0,  s(x) = −δ (1 − e^{x/δ}) for x < 0
 //!
-//! so that P is E ε at small strain (s'(0) = 1 from both sides: at rest the tangent is the
-//! linear element's), the compressive stress saturates at E δ, and the tangent
-//! dP/dλ = E (s'(x) − s(x)) / λ² is continuous. δ = [`SLACK`] = 10⁻³: the exact kink made
-//! Newton's method cycle, a tenth of it failed on the mixed element, ten times it let the
-//! slack diaphragm carry enough compression to make the tangent indefinite
-//! (BENCHMARKS.md, "The membranes' slack smoothing").
+//! (Hencky's, logarithmic strain, the default), or in tension (λ ≥ 1) the incompressible
+//! neo-Hookean sheet in plane strain (the stretches λ, 1, 1/λ; energy (μ/2)(I₁ − 3) with
+//! μ = E/4, so that E is the slope at rest as in Hencky's law):
+//!
+//! P(λ) = (E/4) (λ − λ⁻³),  dP/dλ = (E/4) (1 + 3 λ⁻⁴).
+//!
+//! In plane strain I₁ = I₂, so this is also the Mooney–Rivlin law (c₁ + c₂ = E/8) with which
+//! Noakes et al. (J Biomech 41 (2008) 3060–3065) loaded the levator ani by 4 kPa. Both are E ε
+//! at small strain (s'(0) = 1 from both sides: at rest the tangent is the linear element's)
+//! with a continuous tangent; the compressive stress saturates at E δ, with tangent
+//! dP/dλ = E (s'(x) − s(x)) / λ². Hencky's nominal stress peaks at E/e at λ = e, where a
+//! pressed sheet necks; the neo-Hookean one rises without bound (its tangent never below
+//! E/4). δ = [`SLACK`] = 10⁻³: the exact kink made Newton's method cycle, a tenth of it
+//! failed on the mixed element, ten times it let the slack diaphragm carry enough
+//! compression to make the tangent indefinite (BENCHMARKS.md, "The membranes' slack
+//! smoothing").
 //!
 //! **Active tension.** A muscle sheet may add a tension T (N per mm of depth, its
 //! contraction) to the passive force A P(λ), the same at every stretch: the line then pulls
@@ -82,7 +92,7 @@ use super::total_lagrangian::Inverted;
 /// documentation).
 pub const SLACK: f64 = 1e-3;
 
-/// s(x) and s'(x) of the law (see the module documentation).
+/// s(x) and s'(x) of the slack-smoothed Hencky law (see the module documentation).
 fn slack(x: f64) -> (f64, f64) {
     if x >= 0.0 {
         return (x, 1.0);
@@ -91,22 +101,44 @@ fn slack(x: f64) -> (f64, f64) {
     (-SLACK * (1.0 - e), e)
 }
 
-/// Nominal stress P(λ) = E s(ln λ) / λ (MPa) at stretch `stretch`.
-pub fn nominal_stress(young: f64, stretch: f64) -> f64 {
-    young * slack(stretch.ln()).0 / stretch
+/// A sheet's law in tension (see the module documentation); in compression both are slack.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Law {
+    /// Hencky's: P = E ln λ / λ, peaking at E/e at λ = e.
+    #[default]
+    Hencky,
+    /// The incompressible neo-Hookean sheet in plane strain: P = (E/4)(λ − λ⁻³).
+    NeoHookean,
 }
 
-/// dP/dλ = E (s'(x) − s(x)) / λ².
-pub fn nominal_tangent(young: f64, stretch: f64) -> f64 {
-    let (s, ds) = slack(stretch.ln());
-    young * (ds - s) / (stretch * stretch)
+impl Law {
+    /// Nominal stress P(λ) (MPa) of Young's modulus `young` at stretch `stretch`.
+    pub fn stress(self, young: f64, stretch: f64) -> f64 {
+        match self {
+            Law::NeoHookean if stretch >= 1.0 => 0.25 * young * (stretch - stretch.powi(-3)),
+            _ => young * slack(stretch.ln()).0 / stretch,
+        }
+    }
+
+    /// dP/dλ at stretch `stretch`.
+    pub fn tangent(self, young: f64, stretch: f64) -> f64 {
+        match self {
+            Law::NeoHookean if stretch >= 1.0 => 0.25 * young * (1.0 + 3.0 * stretch.powi(-4)),
+            _ => {
+                let (s, ds) = slack(stretch.ln());
+                young * (ds - s) / (stretch * stretch)
+            }
+        }
+    }
 }
 
-/// What a line is made of: Young's modulus `young` (MPa), reference cross-section `area`
-/// (mm² per mm of depth), active tension `tension` (N per mm of depth) and transverse
+/// What a line is made of: its law, Young's modulus `young` (MPa), reference cross-section
+/// `area` (mm² per mm of depth), active tension `tension` (N per mm of depth) and transverse
 /// curvature (1/mm).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Section {
+    /// The law in tension.
+    pub law: Law,
     /// Young's modulus E (MPa).
     pub young: f64,
     /// Reference cross-section A (mm² per mm of depth).
@@ -121,7 +153,7 @@ pub struct Section {
 impl Section {
     /// The force the line carries at stretch λ, N = A P(λ) + T (N per mm of depth).
     pub fn force(&self, stretch: f64) -> f64 {
-        self.area * nominal_stress(self.young, stretch) + self.tension
+        self.area * self.law.stress(self.young, stretch) + self.tension
     }
 }
 
@@ -198,7 +230,7 @@ impl<const N: usize, const Q: usize> Line<'_, N, Q> {
                 continue;
             };
             let tt = p.tangent * p.tangent.transpose();
-            let block = tt * (section.area * nominal_tangent(section.young, p.stretch))
+            let block = tt * (section.area * section.law.tangent(section.young, p.stretch))
                 + (Matrix2::identity() - tt) * (carried / p.stretch);
             for (a, ga) in p.gradients.iter().enumerate() {
                 for (b, gb) in p.gradients.iter().enumerate() {
@@ -241,7 +273,7 @@ impl<const N: usize, const Q: usize> Line<'_, N, Q> {
             let jacobian = reference.norm();
             let normal = left / jacobian;
             let stretch = Inverted::check(1.0 - kappa * moved.dot(&normal))?;
-            let passive = section.area * nominal_stress(section.young, stretch) * kappa;
+            let passive = section.area * section.law.stress(section.young, stretch) * kappa;
             let push = turn * rate * q - left * passive;
             for a in 0..N {
                 for i in 0..2 {
@@ -254,7 +286,7 @@ impl<const N: usize, const Q: usize> Line<'_, N, Q> {
             let foundation = normal
                 * normal.transpose()
                 * (section.area
-                    * nominal_tangent(section.young, stretch)
+                    * section.law.tangent(section.young, stretch)
                     * kappa
                     * kappa
                     * jacobian);
@@ -295,6 +327,7 @@ mod tests {
     const E: f64 = 0.2;
     const AREA: f64 = 4.0;
     const PASSIVE: Section = Section {
+        law: Law::Hencky,
         young: E,
         area: AREA,
         tension: 0.0,
@@ -343,12 +376,17 @@ mod tests {
     }
 
     /// The tangent against central differences of the force (to 1e-6 of its largest entry),
-    /// passive, with an active tension and with a passive transverse curvature.
+    /// passive, with an active tension and with a passive transverse curvature, in either law.
     fn check_tangent<const N: usize, const Q: usize, const D: usize>(line: &Line<'_, N, Q>) {
         let u = some_u::<D>();
         // Passive, active, and passive curved across the slice (its foundation conservative).
-        for (tension, transverse_curvature) in [(0.0, 0.0), (0.3, 0.0), (0.0, 0.05)] {
+        let cases = [(0.0, 0.0), (0.3, 0.0), (0.0, 0.05)];
+        for ((tension, transverse_curvature), law) in cases
+            .into_iter()
+            .flat_map(|c| [(c, Law::Hencky), (c, Law::NeoHookean)])
+        {
             let section = Section {
+                law,
                 tension,
                 transverse_curvature,
                 ..PASSIVE
@@ -362,7 +400,7 @@ mod tests {
                 let column =
                     (forces_of(line, &up, section).0 - forces_of(line, &um, section).0) / (2.0 * h);
                 let gap = (column - k.column(c)).amax() / k.amax();
-                assert!(gap < 1e-6, "T = {tension}, column {c}: {gap:e}");
+                assert!(gap < 1e-6, "{law:?}, T = {tension}, column {c}: {gap:e}");
             }
             assert!((k - k.transpose()).amax() < 1e-14 * k.amax(), "symmetric");
         }
@@ -569,7 +607,7 @@ mod tests {
         let (f0, _) = forces(&element, &stretched);
         let s0 = element.mean_stress(&stretched, PASSIVE).unwrap();
         assert!(
-            (s0 - nominal_stress(E, 1.2)).abs() < 1e-14,
+            (s0 - Law::Hencky.stress(E, 1.2)).abs() < 1e-14,
             "uniform stretch 1.2: {s0}"
         );
         for angle in [0.3, 1.7, -2.9] {
@@ -632,35 +670,68 @@ mod tests {
     #[test]
     fn the_law_is_hencky_in_tension_slack_in_compression_and_smooth() {
         let e = 0.3;
-        assert_eq!((nominal_stress(e, 1.0), nominal_tangent(e, 1.0)), (0.0, e));
+        assert_eq!(
+            (Law::Hencky.stress(e, 1.0), Law::Hencky.tangent(e, 1.0)),
+            (0.0, e)
+        );
         for stretch in [1.0 - 3.0 * SLACK, 1.0 - 1e-5, 1.0 + 1e-5, 1.3, 2.5] {
             let h = 1e-8;
-            let fd = (nominal_stress(e, stretch + h) - nominal_stress(e, stretch - h)) / (2.0 * h);
-            let tangent = nominal_tangent(e, stretch);
+            let fd = (Law::Hencky.stress(e, stretch + h) - Law::Hencky.stress(e, stretch - h))
+                / (2.0 * h);
+            let tangent = Law::Hencky.tangent(e, stretch);
             assert!((fd - tangent).abs() < 1e-6 * e, "{stretch}: {fd} {tangent}");
         }
         for stretch in [1.3, 2.5] {
             // Kirchhoff stress τ = λ P = E ln λ in tension.
-            assert!((stretch * nominal_stress(e, stretch) - e * stretch.ln()).abs() < 1e-15);
+            assert!((stretch * Law::Hencky.stress(e, stretch) - e * stretch.ln()).abs() < 1e-15);
         }
         // Compressed well beyond δ the stress is −E δ / λ: what is left of the stiffness is
         // E δ / λ², from the 1/λ of a nominal stress.
         for stretch in [0.9, 0.5] {
-            let p = nominal_stress(e, stretch);
+            let p = Law::Hencky.stress(e, stretch);
             assert!(
                 (p * stretch + e * SLACK).abs() < 1e-12 * e,
                 "{stretch}: {p}"
             );
             let rest = e * SLACK / (stretch * stretch);
             assert!(
-                (nominal_tangent(e, stretch) - rest).abs() < 1e-12 * e,
+                (Law::Hencky.tangent(e, stretch) - rest).abs() < 1e-12 * e,
                 "{stretch}"
             );
         }
         // At small strain, E ε on both sides to first order.
         for eps in [-1e-6, 1e-6] {
-            let p = nominal_stress(e, 1.0 + eps);
+            let p = Law::Hencky.stress(e, 1.0 + eps);
             assert!((p / (e * eps) - 1.0).abs() < 2e-3, "{eps}: {p}");
         }
+    }
+
+    /// The neo-Hookean law is the derivative of the plane-strain incompressible energy
+    /// (μ/2)(λ² + 1 + λ⁻² − 3) with μ = E/4 (central differences, to 1e-7 of E), Hencky's
+    /// at small strain and in compression, and keeps rising where Hencky's peaks (E/e at e).
+    #[test]
+    fn the_neo_hookean_law_is_its_energy_s_derivative_and_does_not_peak() {
+        let e = 0.3;
+        let law = Law::NeoHookean;
+        let energy = |l: f64| 0.5 * (e / 4.0) * (l * l + 1.0 + 1.0 / (l * l) - 3.0);
+        for stretch in [1.0 + 1e-5, 1.3, std::f64::consts::E, 4.0] {
+            let h = 1e-6;
+            let fd = (energy(stretch + h) - energy(stretch - h)) / (2.0 * h);
+            let p = law.stress(e, stretch);
+            assert!((fd - p).abs() < 1e-7 * e, "{stretch}: {fd} {p}");
+            let fd = (law.stress(e, stretch + h) - law.stress(e, stretch - h)) / (2.0 * h);
+            assert!((fd - law.tangent(e, stretch)).abs() < 1e-7 * e, "{stretch}");
+            assert!(law.tangent(e, stretch) > 0.25 * e, "{stretch}");
+        }
+        for stretch in [0.5, 0.9, 1.0 - 3.0 * SLACK, 1.0] {
+            assert_eq!(law.stress(e, stretch), Law::Hencky.stress(e, stretch));
+            assert_eq!(law.tangent(e, stretch), Law::Hencky.tangent(e, stretch));
+        }
+        assert_eq!(law.tangent(e, 1.0), e);
+        // Past Hencky's peak: at λ = 4 Hencky's stress has fallen to 0.94 of its peak (ln 4 · e
+        // / 4), the neo-Hookean one is 0.996 E, 2.7 times that peak.
+        let peak = e / std::f64::consts::E;
+        assert!(Law::Hencky.stress(e, 4.0) < 0.95 * peak);
+        assert!(law.stress(e, 4.0) > 2.7 * peak);
     }
 }

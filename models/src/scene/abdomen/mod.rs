@@ -36,8 +36,9 @@ use pressure::Found;
 use simulation::Simulation;
 use variables::{
     table, CAVITY_PRESSURE, COSTAL_MARGIN, ELEMENT, ERROR_INDICATOR, FIRST_OUTPUT, FORMULATION,
-    INTEGRATOR, KINEMATICS, MAX_STEP, MEMORY_LIMIT, MODEL_ORDER, PRESS_AMPLITUDE, PRESS_FORCE,
-    PRESS_FREQUENCY, PRESS_MODE, PRESS_MUSCLES, TARGET_PRESSURE, TISSUE_BASE, WALL_SUPPORT,
+    INTEGRATOR, KINEMATICS, MAX_STEP, MEMBRANE_LAW, MEMORY_LIMIT, MODEL_ORDER, PRESS_AMPLITUDE,
+    PRESS_FORCE, PRESS_FREQUENCY, PRESS_MODE, PRESS_MUSCLES, TARGET_PRESSURE, TISSUE_BASE,
+    WALL_SUPPORT,
 };
 
 use super::{
@@ -514,6 +515,9 @@ impl Scene for Abdomen {
         }
         if vr == PRESS_MUSCLES {
             parameters::wall_contracts(value)?;
+        }
+        if vr == MEMBRANE_LAW {
+            parameters::membrane_law(value)?;
         }
         if vr == ELEMENT {
             discretization::element(value)?;

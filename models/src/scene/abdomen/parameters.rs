@@ -4,12 +4,13 @@
 
 use super::discretization::{Choice, Discretization, Element};
 use super::variables::{
-    tissue_vr, DIAPHRAGM_TRANSVERSE_CURVATURE, FLOOR_TRANSVERSE_CURVATURE, MODEL_ORDER, MODES,
-    PRESS_AMPLITUDE, PRESS_FORCE, PRESS_FREQUENCY, PRESS_MODE, PRESS_MUSCLES, SUBDIVISIONS,
-    TARGET_PRESSURE, TISSUES, TRAINING_FREQUENCY, TRAINING_PRESS, WALL_SUPPORT,
-    WALL_TRANSVERSE_CURVATURE,
+    tissue_vr, DIAPHRAGM_TRANSVERSE_CURVATURE, FLOOR_TRANSVERSE_CURVATURE, KINEMATICS,
+    MEMBRANE_LAW, MODEL_ORDER, MODES, PRESS_AMPLITUDE, PRESS_FORCE, PRESS_FREQUENCY, PRESS_MODE,
+    PRESS_MUSCLES, SUBDIVISIONS, TARGET_PRESSURE, TISSUES, TRAINING_FREQUENCY, TRAINING_PRESS,
+    WALL_SUPPORT, WALL_TRANSVERSE_CURVATURE,
 };
 use crate::assembly::plane::{Continuum, PlaneProperties, Truss};
+use crate::element::membrane::Law;
 use crate::element::Elastic;
 use crate::error::ModelError;
 use crate::scene::{SceneError, Values};
@@ -31,6 +32,10 @@ pub fn properties(values: &Values) -> Result<PlaneProperties, SceneError> {
     trusses[1].contracts = wall_contracts;
     trusses[1].transverse_curvature = values.real(WALL_TRANSVERSE_CURVATURE);
     trusses[2].transverse_curvature = values.real(FLOOR_TRANSVERSE_CURVATURE);
+    let law = membrane_law(values.string(MEMBRANE_LAW)?)?;
+    for truss in &mut trusses {
+        truss.law = law;
+    }
     Ok(PlaneProperties {
         continua: vec![continuum],
         trusses,
@@ -201,6 +206,15 @@ pub fn wall_contracts(value: &str) -> Result<bool, SceneError> {
     }
 }
 
+/// Parses the `membrane_law` parameter: the sheets' law in tension.
+pub fn membrane_law(value: &str) -> Result<Law, SceneError> {
+    match value {
+        "hencky" => Ok(Law::Hencky),
+        "neo-hookean" => Ok(Law::NeoHookean),
+        other => Err(ModelError::unknown("membrane_law", other, "hencky or neo-hookean").into()),
+    }
+}
+
 /// The press's settings checked together: `press_mode` is known and, for `pressure`, the
 /// order full and the integrator implicit (an explicit step's end state does not depend on the load there);
 /// `press_muscles` is known and a contracting wall free; a transverse curvature on the
@@ -260,7 +274,7 @@ pub fn wall_error(value: &str) -> SceneError {
 /// Why the parameter `vr` cannot act under the present values, if it cannot: the wall's
 /// properties (its curvature too) with the wall held (every node of it is), the training
 /// range of a model that is not trained, the basis size of the full order, the press of the
-/// mode not chosen.
+/// mode not chosen, the membranes' law at linear kinematics.
 pub fn inert(values: &Values, vr: u32) -> Option<&'static str> {
     let wall = (tissue_vr(2, 0)..=tissue_vr(2, 3)).contains(&vr) || vr == WALL_TRANSVERSE_CURVATURE;
     if wall && values.string(WALL_SUPPORT).is_ok_and(|w| w == "fixed") {
@@ -282,6 +296,9 @@ pub fn inert(values: &Values, vr: u32) -> Option<&'static str> {
     }
     if [PRESS_AMPLITUDE, PRESS_FREQUENCY, PRESS_FORCE].contains(&vr) && pressure {
         return Some("press_mode = \"pressure\" drives the press by target_pressure alone");
+    }
+    if vr == MEMBRANE_LAW && values.string(KINEMATICS).is_ok_and(|k| k == "linear") {
+        return Some("at kinematics = \"linear\" the sheets are linear bars: membrane_law acts at finite kinematics");
     }
     None
 }

@@ -28,6 +28,14 @@ pub const TOLERANCE: f64 = 1e-7;
 /// bear-down.
 pub const PRESSURE_SCALE: f64 = 1e-4;
 
+/// The least jump of p̄ (MPa) taken for a snap-through: 1 Pa, 10⁻⁴ of a bear-down (10 kPa).
+/// Near rest the slack sheets' equilibria are not unique to better than that (measured at
+/// the end of the clinical presets' releases, across a target of 0 within 10⁻⁹ of a force
+/// below 10⁻³ N/mm: jumps of 1.3·10⁻⁹ MPa on the lordotic pelvis, 3.2·10⁻⁹ on the tilted,
+/// 6.1·10⁻⁷ on the normal), so where, for a target below [`PRESSURE_SCALE`], the bracket has
+/// shrunk to round-off across a smaller jump, its side nearer the target is taken.
+pub const RESOLUTION: f64 = 1e-6;
+
 /// The press at rest, with the first slope guess: 3 kPa per N/mm, about the default
 /// abdomen's static 2.2 kPa at 0.8 N/mm (the search corrects it in its first trials).
 pub const AT_REST: Found = Found {
@@ -53,9 +61,11 @@ pub struct Found {
 /// or `None` where the step finds no equilibrium (a force beyond the structure's limit) —
 /// meets `target` within [`TOLERANCE`], starting from the last step's force and slope
 /// `last`. Until the target is bracketed a secant step at most doubles the force (plus
-/// 1 N/mm); a step without equilibrium bounds the force from above. On success the step
-/// of the last trial, which met the target (or relaxed the muscles), is the one that
-/// stands; a step without equilibrium at F = 0 is an error.
+/// 1 N/mm); a step without equilibrium bounds the force from above; near rest a bracket
+/// shrunk to round-off across a jump below [`RESOLUTION`] ends at its side nearer the
+/// target. On
+/// success the step of the last trial, which met the target (or relaxed the muscles), is
+/// the one that stands; a step without equilibrium at F = 0 is an error.
 pub fn find_force(
     target: f64,
     last: Found,
@@ -99,6 +109,15 @@ pub fn find_force(
             above = Some((tried, p));
         }
         slope = chord.unwrap_or(slope);
+        if let Some(side) = unresolved(below, above, target) {
+            if trial(side)?.is_some() {
+                return Ok(Found {
+                    force: side,
+                    slope,
+                    target,
+                });
+            }
+        }
         if p.is_finite() {
             previous = Some((tried, p));
         }
@@ -126,6 +145,21 @@ pub fn find_force(
          \"The pressure-driven press\" in docs/theory/abdomen.md for how far each setting \
          reaches"
     )))
+}
+
+/// Near rest (a target below [`PRESSURE_SCALE`]), the force of the side nearer `target` of
+/// a bracket shrunk to round-off (10⁻⁹ of its force) across a jump of p̄ below
+/// [`RESOLUTION`], if it has.
+fn unresolved(below: Option<(f64, f64)>, above: Option<(f64, f64)>, target: f64) -> Option<f64> {
+    let (lo, hi) = (below?, above?);
+    let near_rest = target.abs() < PRESSURE_SCALE;
+    let shrunk = (hi.0 - lo.0).abs() <= 1e-9 * hi.0.abs() && hi.1 - lo.1 < RESOLUTION;
+    let nearer = if target - lo.1 <= hi.1 - target {
+        lo.0
+    } else {
+        hi.0
+    };
+    (near_rest && shrunk).then_some(nearer)
 }
 
 /// The slope of the chord through `a` and `b`, if it is positive and finite (p̄ rises
@@ -210,6 +244,39 @@ mod tests {
         .unwrap();
         assert!((found.force - 2.375).abs() < 1e-6, "{found:?}");
         assert!(failed > 0, "the search went beyond the limit");
+    }
+
+    /// Near rest a jump of p̄ across the target below the resolution ends the search at the
+    /// side nearer the target, the step retaken there; a jump above it is a snap-through,
+    /// refused, and so is the same small jump across a target of 2 kPa.
+    #[test]
+    fn a_jump_below_the_resolution_is_taken_and_one_above_it_refused() {
+        let at = 7e-4;
+        for (jump, resolved) in [(0.13 * RESOLUTION, true), (1e3 * RESOLUTION, false)] {
+            let mut last = f64::NAN;
+            let stepped = |f: f64| {
+                last = f;
+                let p = if f < at { -0.4 * jump } else { 0.6 * jump };
+                Ok(Some(p + 1e-3 * (f - at)))
+            };
+            let found = find_force(0.0, AT_REST, stepped);
+            if resolved {
+                let found = found.unwrap();
+                assert!((found.force - at).abs() <= 1e-9 * at, "{found:?}");
+                assert!(found.force < at, "the nearer side, below");
+                assert_eq!(last, found.force, "the step retaken there");
+            } else {
+                let e = found.unwrap_err().to_string();
+                assert!(e.contains("target_pressure = 0 MPa"), "{e}");
+            }
+        }
+        let jump = 0.13 * RESOLUTION;
+        let loaded = |f: f64| {
+            let p = if f < 2.0 { -0.4 * jump } else { 0.6 * jump };
+            Ok(Some(0.002 + p + 1e-3 * (f - 2.0)))
+        };
+        let e = find_force(0.002, AT_REST, loaded).unwrap_err().to_string();
+        assert!(e.contains("target_pressure = 0.002"), "{e}");
     }
 
     /// With the relaxed muscles above the target the force is 0; an unreachable target is

@@ -118,11 +118,25 @@ impl Simulation {
         dt: f64,
         force: impl Fn(f64) -> f64,
     ) -> Result<(), SceneError> {
+        self.start_in(t0, dt, force, None)
+    }
+
+    /// [`start`](Self::start) in the equilibrium `at` (all dofs) where it is known.
+    fn start_in(
+        &mut self,
+        t0: f64,
+        dt: f64,
+        force: impl Fn(f64) -> f64,
+        at: Option<Vec<f64>>,
+    ) -> Result<(), SceneError> {
         let initial = force(t0);
         let full = &self.full;
         let mut u0 = vec![0.0; full.structure.n()];
         if initial != 0.0 {
-            let u = super::stepping::static_displacement(full, initial)?;
+            let u = match at {
+                Some(u) => u,
+                None => super::stepping::static_displacement(full, initial)?,
+            };
             full.structure.dirichlet().reduce(&u, &mut u0);
         }
         if let Some(r) = &self.reduced {
@@ -270,7 +284,9 @@ impl Simulation {
 
     /// Starts at rest at `t0`, as [`start`](Self::start) does, in equilibrium with the
     /// pressing force that makes the contents' mean pressure `target` (MPa): found over
-    /// static solves from `guess` (none for a target of 0). Returns the force and slope.
+    /// static solves from `guess` (none for a target of 0), at finite strain each from the
+    /// nearest equilibrium below ([`Equilibria`](super::stepping::Equilibria)). Returns the
+    /// force and slope.
     pub fn start_at_pressure(
         &mut self,
         t0: f64,
@@ -278,25 +294,39 @@ impl Simulation {
         target: f64,
         guess: Found,
     ) -> Result<Found, SceneError> {
+        // The equilibrium of the last trial, the one that stands.
+        let mut last = None;
         let found = match target > 0.0 {
-            true => find_force(
-                target,
-                guess,
-                |force| match super::stepping::static_displacement(&self.full, force) {
-                    Ok(u) => Ok(Some(self.full.plan.pressure(&self.full.field(&u)))),
+            true => {
+                let full = &self.full;
+                // At finite strain each trial continues from the nearest equilibrium below.
+                let mut equilibria = match full.body.is_some() {
+                    true => Some(super::stepping::Equilibria::new(full)?),
+                    false => None,
+                };
+                let mut solve = |force| match &mut equilibria {
+                    Some(e) => e.at(force).map(<[f64]>::to_vec),
+                    None => super::stepping::static_displacement(full, force),
+                };
+                find_force(target, guess, |force| match solve(force) {
+                    Ok(u) => {
+                        let p = full.plan.pressure(&full.field(&u));
+                        last = Some(u);
+                        Ok(Some(p))
+                    }
                     Err(SceneError::Model(
                         ModelError::NotConverged { .. } | ModelError::Inverted { .. },
                     )) => Ok(None),
                     Err(e) => Err(e),
-                },
-            )?,
+                })?
+            }
             false => Found {
                 force: 0.0,
                 target,
                 ..guess
             },
         };
-        self.start(t0, dt, |_| found.force)?;
+        self.start_in(t0, dt, |_| found.force, last)?;
         Ok(found)
     }
 

@@ -97,40 +97,80 @@ pub fn static_displacement(full: &FullOrder, force: f64) -> Result<Vec<f64>, Sce
 }
 
 /// At finite strain, the static displacements (all dofs) under the pressing forces
-/// `forces` (N/mm) in turn, each solve by Newton's method from the last equilibrium.
+/// `forces` (N/mm) in turn ([`Equilibria`]: a rising ramp solves each from the last).
 pub fn static_ramp(full: &FullOrder, forces: &[f64]) -> Result<Vec<Vec<f64>>, SceneError> {
-    let tension = Arc::new(SharedTension::default());
-    let Some(body) = full.disc.body(&full.props, &tension) else {
-        return Err(SceneError::Config(
-            "a static ramp needs finite kinematics".into(),
-        ));
-    };
-    let asm = &full.disc.asm;
-    let structure = &full.structure;
-    let mut unit = vec![0.0; full.disc.n_dofs()];
-    structure.dirichlet().expand(full.unit_load(), &mut unit);
-    let mut newton = Newton::new(
-        asm,
-        full.fixed(),
-        Factorization::plane(structure.n(), false),
-        Settings::default(),
-    )?;
-    let mut contracting = Contracting {
-        body,
-        tension,
-        from: 0.0,
-        to: 0.0,
-    };
-    let (mut u, zero) = (vec![0.0; unit.len()], vec![0.0; unit.len()]);
-    let mut states = Vec::with_capacity(forces.len());
-    for &force in forces {
-        let f: Vec<f64> = unit.iter().map(|x| x * force.min(0.0)).collect();
-        contracting.to = force.max(0.0) / full.theta();
-        newton.solve(&contracting, &mut u, &zero, &f)?;
-        contracting.from = contracting.to;
-        states.push(u.clone());
+    let mut equilibria = Equilibria::new(full)?;
+    forces
+        .iter()
+        .map(|&force| equilibria.at(force).map(<[f64]>::to_vec))
+        .collect()
+}
+
+/// Static equilibria at finite strain under pressing forces asked for in any order, each
+/// solved by Newton's method (its load increments cut back where it does not converge) from
+/// the equilibrium already found nearest below it on the same side of zero (rest at
+/// first): a continuation in the force, so that a search whose trials come close to each
+/// other (the pressure-driven start) solves each from close by.
+pub struct Equilibria<'a> {
+    full: &'a FullOrder,
+    newton: Newton,
+    contracting: Contracting,
+    unit: Vec<f64>,
+    found: Vec<(f64, Vec<f64>)>,
+}
+
+impl<'a> Equilibria<'a> {
+    /// None found yet; an error where the model is not at finite kinematics.
+    pub fn new(full: &'a FullOrder) -> Result<Self, SceneError> {
+        let tension = Arc::new(SharedTension::default());
+        let Some(body) = full.disc.body(&full.props, &tension) else {
+            return Err(SceneError::Config(
+                "a static ramp needs finite kinematics".into(),
+            ));
+        };
+        let structure = &full.structure;
+        let mut unit = vec![0.0; full.disc.n_dofs()];
+        structure.dirichlet().expand(full.unit_load(), &mut unit);
+        let newton = Newton::new(
+            &full.disc.asm,
+            full.fixed(),
+            Factorization::plane(structure.n(), false),
+            Settings::default(),
+        )?;
+        let contracting = Contracting {
+            body,
+            tension,
+            from: 0.0,
+            to: 0.0,
+        };
+        Ok(Self {
+            full,
+            newton,
+            contracting,
+            unit,
+            found: Vec::new(),
+        })
     }
-    Ok(states)
+
+    /// The static displacement (all dofs) under `force` (N/mm): the diaphragm contracting
+    /// (force > 0, an active tension F/Θ₀) or drawn out (a dead load).
+    pub fn at(&mut self, force: f64) -> Result<&[f64], SceneError> {
+        let start = self
+            .found
+            .iter()
+            .filter(|(f, _)| f * force >= 0.0 && f.abs() <= force.abs())
+            .max_by(|a, b| a.0.abs().total_cmp(&b.0.abs()));
+        let (from, mut u) =
+            start.map_or((0.0, vec![0.0; self.unit.len()]), |(f, u)| (*f, u.clone()));
+        let theta = self.full.theta();
+        self.contracting.from = from.max(0.0) / theta;
+        self.contracting.to = force.max(0.0) / theta;
+        let f: Vec<f64> = self.unit.iter().map(|x| x * force.min(0.0)).collect();
+        let zero = vec![0.0; f.len()];
+        self.newton.solve(&self.contracting, &mut u, &zero, &f)?;
+        self.found.push((force, u));
+        Ok(&self.found[self.found.len() - 1].1)
+    }
 }
 
 /// The full model's states (all dofs) after each step of a press
@@ -208,5 +248,34 @@ impl InternalForces for Contracting {
 
     fn internal(&self, u: &[f64], f: &mut [f64], k: Option<&mut [f64]>) -> Result<(), ModelError> {
         self.body.internal(u, f, k)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::variables::{table, TARGET_TRIANGLES};
+    use super::*;
+    use crate::scene::Values;
+
+    /// Forces asked for out of order, each after the first on its side of zero continued
+    /// from the nearest equilibrium below (0.6 and 0.4 from 0.2, 1.0 from 0.6, −0.3 from
+    /// −0.1), give the equilibria a solve from rest gives (to 1e-6 of the largest
+    /// displacement), drawn-out ones included.
+    #[test]
+    fn equilibria_continued_in_any_order_are_those_from_rest() {
+        let mut values = Values::new(table());
+        values.set_real(TARGET_TRIANGLES, &[150.0]).unwrap();
+        let full = FullOrder::build(&values).unwrap_or_else(|e| panic!("{e}"));
+        let mut equilibria = Equilibria::new(&full).unwrap();
+        for force in [0.2, 0.6, 0.4, 1.0, -0.1, -0.3] {
+            let continued = equilibria.at(force).unwrap().to_vec();
+            let from_rest = static_ramp(&full, &[force]).unwrap().pop().unwrap();
+            let scale = from_rest.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+            let gap = continued
+                .iter()
+                .zip(&from_rest)
+                .fold(0.0, |m: f64, (a, b)| m.max((a - b).abs()));
+            assert!(gap <= 1e-6 * scale, "{force} N/mm: {gap:e} of {scale}");
+        }
     }
 }

@@ -17,7 +17,7 @@
 use super::discretization::Element;
 use super::simulation::Simulation;
 use super::variables::TISSUES;
-use crate::element::membrane::nominal_stress;
+use crate::element::membrane::Law;
 use crate::element::mixed::Formulation;
 use crate::error::seconds;
 use crate::scene::SMALL_STRAIN_LIMIT;
@@ -72,12 +72,13 @@ pub fn training(sim: &Simulation, extremes: [f64; 2], frequency: f64) -> Option<
     hyper.range.check(extremes, frequency)
 }
 
-/// The stretch of a membrane beyond which its law stops being valid: Hencky's nominal
-/// stress P = E ln λ / λ has lost three quarters of its stiffness at rest there (dP/dλ =
-/// E (1 − ln λ) / λ² = 0.26 E at λ = 1.5) and rises to its maximum E/e at λ = e, where a
-/// pressed membrane necks — measured: driven by the contents' pressure, the pelvic floor
-/// snaps through as its largest stress reaches E/e (normal pelvis, 9.1 kPa,
-/// docs/theory/abdomen.md) — whereas soft tissue stiffens as it is stretched.
+/// The stretch of a membrane beyond which its law stops being valid. Soft tissue stiffens
+/// as it is stretched; both laws soften in tangent instead: Hencky's nominal stress P = E ln
+/// λ / λ has lost three quarters of its stiffness at rest there (dP/dλ = E (1 − ln λ) / λ² =
+/// 0.26 E at λ = 1.5) and rises to its maximum E/e at λ = e, where a pressed membrane necks
+/// — measured: driven by the contents' pressure, the pelvic floor snaps through as its
+/// largest stress reaches E/e (normal pelvis, 9.1 kPa, docs/theory/abdomen.md); the
+/// neo-Hookean sheet's tangent (E/4)(1 + 3 λ⁻⁴) has lost 60 % of it (0.40 E).
 pub const MEMBRANE_STRETCH_LIMIT: f64 = 1.5;
 
 /// The membranes' warning at time `time`, if a line (in full order, at finite kinematics)
@@ -89,20 +90,26 @@ pub fn membranes(sim: &mut Simulation, time: f64) -> Option<String> {
     sim.expand();
     let full = &sim.full;
     let regions = full.disc.mesh().line_regions();
+    let trusses = &full.props.trusses;
     let (line, excess) = (0..regions.len())
         .map(|i| {
-            let young = full.props.trusses[usize::from(regions[i])].young;
-            let limit = nominal_stress(young, MEMBRANE_STRETCH_LIMIT);
+            let truss = trusses[usize::from(regions[i])];
+            let limit = truss.law.stress(truss.young, MEMBRANE_STRETCH_LIMIT);
             (i, full.recovery.line(i, sim.u_full()) / limit)
         })
         .filter(|(_, excess)| excess.is_finite())
         .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    let law = trusses[usize::from(regions[line])].law;
+    let lost = match law {
+        Law::Hencky => "its Hencky law has lost three quarters of its stiffness",
+        Law::NeoHookean => "its neo-Hookean law has lost 60 % of its stiffness",
+    };
     (excess > 1.0).then(|| {
         format!(
             "at t = {} s the {} is stretched beyond {MEMBRANE_STRETCH_LIMIT} (its stress {:.1} \
-             times the law's there), where its Hencky law has lost three quarters of its \
-             stiffness and soft tissue would stiffen instead: membrane forces and displacements beyond it \
-             are not those of tissue (reduce the press)",
+             times the law's there), where {lost} and soft tissue would stiffen instead: \
+             membrane forces and displacements beyond it are not those of tissue (reduce the \
+             press)",
             seconds(time),
             TISSUES[usize::from(regions[line]) + 1],
             excess

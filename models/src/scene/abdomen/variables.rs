@@ -45,6 +45,7 @@ pub const PRESS_MUSCLES: u32 = 52;
 pub const DIAPHRAGM_TRANSVERSE_CURVATURE: u32 = 53;
 pub const WALL_TRANSVERSE_CURVATURE: u32 = 54;
 pub const FLOOR_TRANSVERSE_CURVATURE: u32 = 55;
+pub const MEMBRANE_LAW: u32 = 56;
 
 /// Value reference of field `field` (0 E, 1 ν or area, 2 density, 3 damping) of a tissue.
 pub fn tissue_vr(tissue: usize, field: u32) -> u32 {
@@ -224,12 +225,13 @@ pub fn table() -> Vec<Variable> {
         Variable::output("error_indicator", "1", 1, "error indicator η of the current state: the full model's residual r = f − Mü − Cu̇ − f_int(u) there (a reduced order's coordinates expanded) as the static correction K₀⁻¹r it calls for, relative to the displacement, both in the energy norm of the stiffness at rest K₀ (exactly the relative error of a linear static state); at Newton's tolerance in full order with houbolt or newmark (the explicit integrators' lumped mass shows in it), the reduction's error in a reduced order; infinite where the expanded state inverts an element. Computed only when read: one full-order force evaluation and solve"),
         Variable::output("cavity_pressure", "MPa", 1, "the contents' mean pressure, the model's intra-abdominal pressure: −tr σ/3 of the Cauchy stress at each triangle's centroid (its plane-strain σ_zz included), averaged weighted by the triangles' reference areas; positive in compression"),
         Variable::string("press_mode", "force", "`force` (the press F(t) of press_force, press_amplitude and press_frequency drives the muscles) or `pressure` (each step finds the muscles' active tension that makes cavity_pressure equal target_pressure; needs model_order = full and houbolt or newmark)"),
-        Variable::input("target_pressure", "MPa", 0.0, (0.0, 0.05), "press_mode = pressure: the contents' mean pressure (intra-abdominal pressure, as a bladder catheter measures it) that the contracting muscles produce at the end of each communication step (within a step the target runs linearly from the last one met); the clinical presets are in experiments/clinical (bear-down about 0.0099 MPa, 101 cmH2O)"),
+        Variable::input("target_pressure", "MPa", 0.0, (0.0, 0.05), "press_mode = pressure: the contents' mean pressure (intra-abdominal pressure, as a bladder catheter measures it) that the contracting muscles produce at the end of each communication step (within a step the target runs linearly from the last one met); the clinical load presets are experiments/clinical_rest, _cough, _valsalva and _bear_down.toml (bearing down 0.0099 MPa, 101 cmH2O)"),
         Variable::string("press_muscles", "diaphragm", "the muscles that contract in a press: `diaphragm` or `diaphragm_and_wall` (the abdominal wall with the same active tension, as in a Valsalva manoeuvre; needs abdominal_wall = free and kinematics = finite)"),
         Variable::parameter("diaphragm_transverse_curvature", Fixed, "1/mm", 0.0, (0.0, 0.02), "curvature of the diaphragm across the slice, from side to side (1/radius, up to a radius of 50 mm, the least measured; needs element = tri6): contracting with tension T it presses on the contents with T times it as well, and passively it resists being drawn out of its dome (Laplace's law of a doubly curved sheet); 0: flat across, the slice's own curvature alone"),
         Variable::parameter("wall_transverse_curvature", Fixed, "1/mm", 0.0, (0.0, 0.01), "curvature of the abdominal wall across the slice, round the waist (1/radius, up to a radius of 100 mm; needs element = tri6): its hoop tension resists bulging, and it presses with its active tension while it contracts (press_muscles = diaphragm_and_wall); acts with abdominal_wall = free"),
         Variable::parameter("floor_transverse_curvature", Fixed, "1/mm", 0.0, (0.0, 0.04), "curvature of the pelvic floor across the slice, the levator bowl from side to side (1/radius, up to a radius of 25 mm; needs element = tri6): its transverse tension holds the contents as a bowl does"),
+        Variable::string("membrane_law", "hencky", "the sheets' (diaphragm, wall, floor) law in tension at finite kinematics, slack in compression either way: `hencky` (P = E ln λ / λ: the shipped figures'; its stress peaks at E/e at λ = e, where a pressed floor necks: statically from 9.1 kPa on the normal pelvis in the clinical settings on the default mesh) or `neo-hookean` (the incompressible neo-Hookean sheet in plane strain, P = (E/4)(λ − λ⁻³), the Mooney–Rivlin law of pelvic-floor models reduced to plane strain: it rises without bound, and the pressure press reaches 10 kPa on every shipped configuration)"),
     ]);
-    debug_assert_eq!(t.len(), FLOOR_TRANSVERSE_CURVATURE as usize + 1);
+    debug_assert_eq!(t.len(), MEMBRANE_LAW as usize + 1);
     t
 }
