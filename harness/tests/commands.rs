@@ -340,6 +340,7 @@ fn the_quick_report_writes_every_section() {
     for heading in [
         "## Verification",
         "## Seed 003's findings on both kinematics",
+        "## From seed 003's model form to the default, one change at a time",
         "## The abdomen beside the body",
         "## The abdomen at clinical pressures",
         "## Pelvis rankings with their confidence",

@@ -1,11 +1,15 @@
 //! Seed 003's findings on both kinematics: the configuration table at small strain beside
 //! finite strain, each kinematics' ranking of the configurations with the differences
-//! marked, and what a stiffer free wall does at each.
+//! marked, and what a stiffer free wall does at each; then the walk from seed 003's own
+//! model form to the default, one change at a time, naming the change that reverses each
+//! finding.
 
 use anyhow::Result;
 
 use super::{Depth, Report};
-use crate::studies::findings::{ranks, run, Row, CONFIGURATIONS, KINEMATICS};
+use crate::studies::findings::{
+    ranks, run, walk, Row, Stage, CONFIGURATIONS, KINEMATICS, SEED_FORM, STIFF_WALL_E,
+};
 
 /// Adds the section to `report` (the same at either depth).
 pub fn section(report: &mut Report, _depth: Depth) -> Result<()> {
@@ -85,5 +89,82 @@ pub fn section(report: &mut Report, _depth: Depth) -> Result<()> {
         })
         .collect();
     report.text(&format!("{}.", verdicts.join("; ")));
+    walk_section(report);
     Ok(())
+}
+
+/// The walk's table and which change reverses each finding.
+fn walk_section(report: &mut Report) {
+    let stages = walk();
+    report.heading("From seed 003's model form to the default, one change at a time");
+    let form: Vec<String> = SEED_FORM
+        .iter()
+        .map(|(n, v)| format!("{n} = {v}"))
+        .collect();
+    report.text(&format!(
+        "Seed 003's form: {} (the press a dead load, the default sinusoid). Each row makes \
+         one more change towards the default. Peak mean floor stress over the first press \
+         (kPa); the findings: a narrower pelvis lowers it (narrow < normal), a stiffer free \
+         wall lowers it (wall_E = {STIFF_WALL_E} MPa, ten times the default, < the default).",
+        form.join(", ")
+    ));
+    let cell = |p: &Option<Result<[f64; 2], String>>| match p {
+        Some(Ok(p)) => format!("{:.3}", 1e3 * p[0]),
+        Some(Err(why)) => why.clone(),
+        None => "– (wall braced)".into(),
+    };
+    let verdict = |holds: Option<bool>| match holds {
+        Some(true) => "holds",
+        Some(false) => "reversed",
+        None => "–",
+    };
+    let rows: Vec<Vec<String>> = stages
+        .iter()
+        .map(|s| {
+            let [narrow, wall] = s.findings();
+            vec![
+                s.label.into(),
+                cell(&s.peaks[0]),
+                cell(&s.peaks[1]),
+                verdict(narrow).into(),
+                cell(&s.peaks[2]),
+                verdict(wall).into(),
+            ]
+        })
+        .collect();
+    report.table(
+        &[
+            "stage",
+            "narrow",
+            "normal",
+            "narrower pelvis lowers it",
+            "normal, stiffer free wall",
+            "stiffer wall lowers it",
+        ],
+        &rows,
+    );
+    let names = ["narrower pelvis", "stiffer free wall"];
+    let lines: Vec<String> = (0..2)
+        .map(|f| format!("the {} finding {}", names[f], reversal(&stages, f)))
+        .collect();
+    report.text(&format!("{}.", lines.join("; ")));
+}
+
+/// Where finding `f` changes along the walk: the change after which it first differs from
+/// the seed form's verdict.
+fn reversal(stages: &[Stage], f: usize) -> String {
+    let verdicts: Vec<Option<bool>> = stages.iter().map(|s| s.findings()[f]).collect();
+    match verdicts[0] {
+        None => "cannot be judged on the seed's form (a run failed)".into(),
+        Some(seed) => {
+            let holds = if seed { "holds" } else { "does not hold" };
+            match verdicts.iter().position(|v| v.is_some_and(|v| v != seed)) {
+                Some(k) => format!(
+                    "{holds} on the seed's form and turns with \"{}\"",
+                    stages[k].label
+                ),
+                None => format!("{holds} on the seed's form and at every stage of the walk"),
+            }
+        }
+    }
 }
