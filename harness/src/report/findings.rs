@@ -156,15 +156,14 @@ fn reversal(stages: &[Stage], f: usize) -> String {
     let verdicts: Vec<Option<bool>> = stages.iter().map(|s| s.findings()[f]).collect();
     match verdicts[0] {
         None => "cannot be judged on the seed's form (a run failed)".into(),
-        Some(seed) => {
-            let holds = if seed { "holds" } else { "does not hold" };
-            match verdicts.iter().position(|v| v.is_some_and(|v| v != seed)) {
-                Some(k) => format!(
-                    "{holds} on the seed's form and turns with \"{}\"",
-                    stages[k].label
-                ),
-                None => format!("{holds} on the seed's form and at every stage of the walk"),
-            }
-        }
+        Some(seed) => match verdicts.iter().position(|v| v.is_some_and(|v| v != seed)) {
+            Some(k) => format!(
+                "{} on the seed's form and turns with \"{}\"",
+                if seed { "holds" } else { "does not hold" },
+                stages[k].label
+            ),
+            None if seed => "holds on the seed's form and at every stage of the walk".into(),
+            None => "holds neither on the seed's form nor at any stage of the walk".into(),
+        },
     }
 }
