@@ -47,6 +47,12 @@ pub const AT_REST: Found = Found {
 /// Trials a step may take before it is refused.
 const MAX_TRIALS: usize = 40;
 
+/// The largest pressing force tried (N/mm): hundreds of times a diaphragm's (its tension
+/// T = p R is about 2 N/mm at a transdiaphragmatic 15 kPa over a 150 mm radius), where the
+/// dome has flattened to its chord and the contents' pressure has saturated; a target above
+/// the pressure there is refused as saturated instead of doubling the force on.
+pub const MAX_FORCE: f64 = 1e3;
+
 /// The force found for a step and the slope dp̄/dF seen there (MPa per N/mm), the next
 /// step's first guess, and the target the step met (MPa; the next communication step's
 /// targets run on from it).
@@ -103,6 +109,14 @@ pub fn find_force(
                 target,
             });
         }
+        if p < target && tried >= MAX_FORCE {
+            return Err(SceneError::Config(format!(
+                "press_mode = \"pressure\": the contents' pressure saturates below \
+                 target_pressure = {target} MPa: at a pressing force of {MAX_FORCE} N/mm, \
+                 hundreds of times a diaphragm's, it is {p} MPa — the model cannot hold it \
+                 (see \"The pressure-driven press\" in docs/theory/abdomen.md)"
+            )));
+        }
         if p < target {
             below = Some((tried, p));
         } else {
@@ -126,7 +140,7 @@ pub fn find_force(
             (Some(lo), Some(hi)) if !(next > lo.0 && next < hi.0) => 0.5 * (lo.0 + hi.0),
             (Some(_), Some(_)) => next,
             (None, Some(hi)) if !p.is_finite() => 0.5 * hi.0,
-            _ => next.min(2.0 * tried + 1.0),
+            _ => next.min(2.0 * tried + 1.0).min(MAX_FORCE),
         };
     }
     let reached = below.map_or(String::new(), |(f, p)| {
@@ -280,7 +294,7 @@ mod tests {
     }
 
     /// With the relaxed muscles above the target the force is 0; an unreachable target is
-    /// an error naming the variable.
+    /// an error naming the variable, a saturated one after at most [`MAX_FORCE`].
     #[test]
     fn relaxed_muscles_push_nothing_and_an_unreachable_target_is_refused() {
         let rebound = |f: f64| Ok(Some(0.002 + 0.001 * f));
@@ -295,7 +309,11 @@ mod tests {
         )
         .unwrap();
         assert_eq!(found.force, 0.0);
-        let capped = |f: f64| Ok(Some(0.005 * (1.0 - (-f).exp())));
+        let mut trials = 0;
+        let capped = |f: f64| {
+            trials += 1;
+            Ok(Some(0.005 * (1.0 - (-f).exp())))
+        };
         let e = find_force(
             0.006,
             Found {
@@ -307,6 +325,9 @@ mod tests {
         )
         .unwrap_err();
         assert!(e.to_string().contains("target_pressure = 0.006"), "{e}");
+        // Saturated: refused at the largest force, after doubling up to it (1, 3, 7, …).
+        assert!(e.to_string().contains("saturates"), "{e}");
+        assert!(trials <= 12, "{trials} trials");
         // A step without equilibrium even relaxed is an error, not a relaxed step.
         let none = |_: f64| Ok(None);
         let e = find_force(0.001, AT_REST, none).unwrap_err();
