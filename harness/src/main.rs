@@ -23,8 +23,8 @@ use harness::studies::{measurements, peer};
                   studies). Documentation: docs/user-guide.md"
 )]
 struct Cli {
-    /// Threads for the work that runs in parallel (sweep cases, fits, difference
-    /// quotients) [default: one per core; a sweep file's `jobs` unless given]
+    /// Threads for the work that runs in parallel (sweep cases, fits, the scenes' assembly
+    /// and factorization) [default: one per core; a sweep file's `jobs` unless given]
     #[arg(long, global = true)]
     jobs: Option<usize>,
     #[command(subcommand)]
@@ -71,9 +71,10 @@ enum Command {
         /// A and C]
         #[arg(long)]
         data: Option<PathBuf>,
-        /// Name of the measurement set in the folder
-        #[arg(long, default_value = "A")]
-        set: String,
+        /// Name of the measurement set in the folder; several (`--set A,C`) are a batch:
+        /// one fit each, side by side in one report and one table
+        #[arg(long, default_value = "A", value_delimiter = ',', num_args = 1..)]
+        set: Vec<String>,
         /// Material law of the model: linear, neo-hookean or stvk
         #[arg(long, default_value = "neo-hookean")]
         material: String,
@@ -237,15 +238,19 @@ fn run(cli: Cli) -> Result<Option<PathBuf>> {
             element,
             nu,
             out,
-        } => identification::command(
-            identification::Job {
-                data: measurements::source(data.as_deref()),
-                set,
-                model: ModelForm::parse(&material, &element)?,
-                nu,
-            },
-            &out,
-        )?,
+        } => {
+            let model = ModelForm::parse(&material, &element)?;
+            let jobs = set
+                .into_iter()
+                .map(|set| identification::Job {
+                    data: measurements::source(data.as_deref()),
+                    set,
+                    model,
+                    nu,
+                })
+                .collect();
+            identification::command(jobs, &out)?
+        }
         Command::SpeedError { out } => report::write(
             &out,
             "Speed versus error",

@@ -4,6 +4,7 @@
 //! - [`measurements`]: a cut-block measurement set and the specimen it was taken on;
 //! - [`identify`]: E and ν of the cut block from force–displacement data and laser profiles;
 //! - [`profiles`]: scanner profiles against the model, in the lab frame and aligned;
+//! - [`secant`]: seed 002's own identification (eqs. 4.1, 4.2) beside the FE fit;
 //! - [`speed_error`]: run time against error for the abdomen;
 //! - [`stability`]: the abdomen's integrators on hard cases;
 //! - [`model_orders`]: the shipped configurations in full, hyper-reduced and modal order;
@@ -26,6 +27,7 @@ pub mod peer;
 pub mod physiology;
 pub mod profiles;
 pub mod rankings;
+pub mod secant;
 pub mod speed_error;
 pub mod stability;
 pub mod verification;

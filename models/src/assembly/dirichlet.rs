@@ -159,6 +159,19 @@ impl Dirichlet {
         }
     }
 
+    /// out_c ← out_c + Σ_f K_cf x_f at the constrained dofs of the full-length `out`, for
+    /// full values `k_full` of a symmetric matrix (K_cf = K_fcᵀ, read from the coupling
+    /// entries) and free values `x`: the forces at the held dofs of a displacement of the
+    /// free ones (a reaction's change).
+    pub fn add_coupled(&self, k_full: &[f64], x: &[f64], out: &mut [f64]) {
+        for (i, &c) in self.constrained.iter().enumerate() {
+            out[c] += self.coupling[self.coupling_ptr[i]..self.coupling_ptr[i + 1]]
+                .iter()
+                .map(|&(k, eq)| k_full[k] * x[eq])
+                .sum::<f64>();
+        }
+    }
+
     /// out ← out − K_fc u_c, for full stiffness values `k_full` (on the pattern this split
     /// was made for), reading the prescribed values u_c from the constrained entries of the
     /// full-length vector `u` (seed 002 eq. 3.3). Visits only the coupling entries.
@@ -196,6 +209,10 @@ mod tests {
         let mut rhs = vec![0.0];
         bc.subtract_prescribed(&k, &[0.5, 99.0, 0.0], &mut rhs);
         assert_eq!(rhs[0] / kr[0], 0.2);
+        // The held ends feel −k1 and −k2 per unit displacement of the middle.
+        let mut reactions = vec![0.0; 3];
+        bc.add_coupled(&k, &[1.0], &mut reactions);
+        assert_eq!(reactions, vec![-2.0, 0.0, -3.0]);
         assert!(Dirichlet::new(&asm, &[3])
             .unwrap_err()
             .to_string()

@@ -180,7 +180,29 @@ impl Solid {
         f: &mut [f64],
         k: Option<&mut [f64]>,
     ) -> Result<(), ModelError> {
-        let (r, m) = (&self.reference, &self.material);
+        self.add_internal_of(&self.material, asm, u, f, k)
+    }
+
+    /// Adds ∂f_int/∂ν at fixed `u` (all dofs) to `f`: the internal forces of the material's
+    /// derivative in Poisson's ratio ([`Material::poisson_derivative`]).
+    pub fn add_poisson_derivative(
+        &self,
+        asm: &Assembler,
+        u: &[f64],
+        f: &mut [f64],
+    ) -> Result<(), ModelError> {
+        self.add_internal_of(&self.material.poisson_derivative(), asm, u, f, None)
+    }
+
+    fn add_internal_of(
+        &self,
+        m: &Material,
+        asm: &Assembler,
+        u: &[f64],
+        f: &mut [f64],
+        k: Option<&mut [f64]>,
+    ) -> Result<(), ModelError> {
+        let r = &self.reference;
         match &self.elements {
             Elements::Tet4(e) => add::<Tet4, 4, 12>(r, e, m, asm, u, f, k),
             Elements::Tet10(e) => add::<Tet10, 10, 30>(r, e, m, asm, u, f, k),

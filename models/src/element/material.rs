@@ -146,6 +146,22 @@ impl Material {
         }
     }
 
+    /// The derivative of this material in Poisson's ratio at fixed E: the same law with the
+    /// Lamé parameters' derivatives, ∂λ/∂ν = E (1 + 2ν²) / ((1 + ν)² (1 − 2ν)²) and
+    /// ∂μ/∂ν = −E / (2 (1 + ν)²). Every law's stress is linear in λ and μ, so this
+    /// material's [`stress`](Self::stress) is ∂P/∂ν at fixed F, and the internal forces an
+    /// element kernel computes with it are ∂f_int/∂ν at fixed displacements (what the
+    /// direct differentiation of an equilibrium in ν needs: `Newton::sensitivity`).
+    /// `elastic` stays the material's own; only the stress and tangent use the derivatives.
+    pub fn poisson_derivative(&self) -> Self {
+        let (e, nu) = (self.elastic.young(), self.elastic.poisson());
+        Self {
+            lambda: e * (1.0 + 2.0 * nu * nu) / ((1.0 + nu) * (1.0 - 2.0 * nu)).powi(2),
+            mu: -e / (2.0 * (1.0 + nu).powi(2)),
+            ..*self
+        }
+    }
+
     /// First Piola–Kirchhoff stress P(F) (MPa). For the neo-Hookean law, F must have
     /// det F > 0 (the kernel checks before calling).
     pub fn stress(&self, f: &Matrix3<f64>) -> Matrix3<f64> {
@@ -297,6 +313,23 @@ mod tests {
 
     /// At F = I all laws have the linear tangent (one E, ν: one material); under a rigid
     /// rotation the finite-strain laws give zero stress and the linear law does not.
+    /// The derivative material's stress is the central difference of the stress in ν (at
+    /// fixed E and F) for every law, near incompressibility too.
+    #[test]
+    fn poisson_derivative_is_the_derivative_of_the_stress_in_nu() {
+        let f = some_f();
+        for law in Law::ALL {
+            for nu in [0.3, 0.45, 0.499] {
+                let at = |nu: f64| Material::new(law, Elastic::new("m", 0.04, nu).unwrap());
+                let h = 1e-6;
+                let difference = (at(nu + h).stress(&f) - at(nu - h).stress(&f)) / (2.0 * h);
+                let derivative = at(nu).poisson_derivative().stress(&f);
+                let error = (derivative - difference).norm() / difference.norm();
+                assert!(error < 1e-6, "{law:?} ν = {nu}: {error:e}");
+            }
+        }
+    }
+
     #[test]
     fn laws_agree_at_small_strain_and_finite_ones_are_rotation_invariant() {
         let ms = materials();

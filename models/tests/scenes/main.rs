@@ -1,6 +1,7 @@
 //! Tests of the two scenes through the scene interface: the abdomen (elements, modal and
 //! hyper-reduced orders), the cut block (incision, contact of the flanks) and the
-//! checkpoints of both. One module per file, linked as one binary.
+//! checkpoints of both, and the cut block's derivatives in ν. One module per file, linked
+//! as one binary.
 
 mod abdomen;
 mod abdomen_elements;
@@ -10,3 +11,4 @@ mod abdomen_reduced;
 mod checkpoint;
 mod cutblock;
 mod incision;
+mod sensitivity;

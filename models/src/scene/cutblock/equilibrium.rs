@@ -227,6 +227,9 @@ pub struct Equilibrium {
     /// Whether a solve since the scene last looked kept the springs linearized where their
     /// nodes were caught (the settle's fallback).
     pub fell_back: bool,
+    /// Where the next finite-strain solve starts its iterations, if not from the last
+    /// equilibrium ([`Newton::solve_from`]; taken by that solve).
+    pub start: Option<Vec<f64>>,
 }
 
 impl Equilibrium {
@@ -266,6 +269,7 @@ impl Equilibrium {
             },
             timing: Timing::default(),
             fell_back: false,
+            start: None,
         })
     }
 
@@ -429,8 +433,41 @@ impl Equilibrium {
         self.fell_back = saved == Saved::Settled;
     }
 
-    /// The equilibrium for the prescribed values and `f` with the springs `on` holds.
+    /// Direct differentiation of the last equilibrium in ν at fixed E and loads: du/dν into
+    /// `du` and the derivative of the internal forces along the equilibria into `total`
+    /// (all dofs; at the pulled face the reaction's). A finite-strain law solves with the
+    /// exact tangent preconditioned by Newton's kept factorization
+    /// ([`Newton::sensitivity`]); the linear law, whose K is factorized as it is, with
+    /// one solve. The contact springs' penalty scales with E alone, so they add to K but
+    /// nothing to ∂f_int/∂ν. Returns the solve's iterations (1 for the linear law).
+    pub fn poisson_sensitivity(
+        &mut self,
+        on: &On<'_>,
+        du: &mut [f64],
+        total: &mut [f64],
+    ) -> Result<usize, SceneError> {
+        let mut partial = vec![0.0; self.u.len()];
+        on.solid
+            .add_poisson_derivative(on.asm, &self.u, &mut partial)?;
+        Ok(match &mut self.solver {
+            Solver::Linear { statics, k, k_base } => {
+                for (l, p) in self.loads.iter_mut().zip(&partial) {
+                    *l = -p;
+                }
+                du.fill(0.0);
+                statics.solve(on.asm.matrix(k), &self.loads, du);
+                total.copy_from_slice(&partial);
+                mul_add(on.asm.matrix(k_base), du, 1.0, total);
+                1
+            }
+            Solver::Newton(n) => n.sensitivity(on, &self.u, &partial, du, total)?,
+        })
+    }
+
+    /// The equilibrium for the prescribed values and `f` with the springs `on` holds; a
+    /// finite-strain law iterates first from the `start`, if one was given (taken either way).
     pub fn solve(&mut self, on: &On<'_>) -> Result<(), SceneError> {
+        let start = self.start.take();
         match &mut self.solver {
             Solver::Linear { statics, k, k_base } => {
                 self.loads.copy_from_slice(&self.f);
@@ -443,7 +480,12 @@ impl Equilibrium {
                 mul_add(on.asm.matrix(k_base), &self.u, 1.0, &mut self.internal);
             }
             Solver::Newton(n) => {
-                let report = n.solve(on, &mut self.u, &self.prescribed, &self.f)?;
+                let report = match start {
+                    Some(start) => {
+                        n.solve_from(on, &mut self.u, &start, &self.prescribed, &self.f)?
+                    }
+                    None => n.solve(on, &mut self.u, &self.prescribed, &self.f)?,
+                };
                 let w = &mut self.work;
                 w.factorizations += report.factorizations as u64;
                 w.increments += report.iterations.len() as u64;

@@ -85,6 +85,26 @@ pub struct CutBlock {
     inert: Inert,
 }
 
+/// The displacement (mm) of the largest nodal change along du/dν over which
+/// [`CutBlock::poisson_sensitivity`] differences the heights: far above their round-off
+/// (10⁻¹⁴ mm), far below the curvature of the surface.
+pub const HEIGHT_STEP: f64 = 1e-5;
+
+/// Derivatives in Poisson's ratio of the cut block's equilibrium
+/// ([`CutBlock::poisson_sensitivity`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sensitivity {
+    /// ∂F/∂ν of the reaction force (N).
+    pub reaction_force: f64,
+    /// ∂h/∂ν of the heights along each scan line at the stations asked (mm; NaN where
+    /// there is no surface).
+    pub profiles: Vec<Vec<f64>>,
+    /// du/dν (mm, all dofs of the present mesh).
+    pub displacement: Vec<f64>,
+    /// The iterations of the solve for du/dν (conjugate gradients; 1 for the linear law).
+    pub iterations: usize,
+}
+
 /// The cut block's state (see [`SceneState`]).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct State {
@@ -104,6 +124,23 @@ pub struct State {
     /// The parameters already warned of in this run for having no effect.
     #[serde(default)]
     inert: Inert,
+}
+
+/// The topology of an initialized scene; before initialization an error naming `what`.
+fn built<'a>(topology: &'a Option<Topology>, what: &str) -> Result<&'a Topology, SceneError> {
+    topology
+        .as_ref()
+        .ok_or_else(|| SceneError::NotInitialized { name: what.into() })
+}
+
+/// [`built`], to change.
+fn built_mut<'a>(
+    topology: &'a mut Option<Topology>,
+    what: &str,
+) -> Result<&'a mut Topology, SceneError> {
+    topology
+        .as_mut()
+        .ok_or_else(|| SceneError::NotInitialized { name: what.into() })
 }
 
 impl Default for CutBlock {
@@ -171,12 +208,7 @@ impl CutBlock {
     /// `ys` (NaN where there is no surface), read as the `profile_x*` outputs read theirs —
     /// for scanners at other lines than x = 25, 50, 75 mm.
     pub fn profile(&self, line: f64, ys: &[f64]) -> Result<Vec<f64>, SceneError> {
-        let t = self
-            .topology
-            .as_ref()
-            .ok_or_else(|| SceneError::NotInitialized {
-                name: "profile".into(),
-            })?;
+        let t = built(&self.topology, "profile")?;
         let mut heights = vec![0.0; ys.len()];
         let nodes = t.solid.nodes();
         let sections = &mut Default::default();
@@ -189,6 +221,96 @@ impl CutBlock {
             sections,
         );
         Ok(heights)
+    }
+
+    /// Where the next step's solve starts its iterations (the displacements of all dofs of
+    /// the present mesh, its held ones taken at their prescribed values), if not from the
+    /// last equilibrium: an equilibrium at a nearby ν moved along its derivative
+    /// ([`Sensitivity::displacement`]) is a continuation in ν that converges in a few
+    /// iterations. Finite-strain laws; a start that does not converge is dropped for the
+    /// path from the last equilibrium, and a step that rebuilds the mesh ignores it. The
+    /// answer is the same equilibrium to the solver's tolerance; the start is no part of
+    /// the scene's state.
+    pub fn start_next_from(&mut self, u: &[f64]) -> Result<(), SceneError> {
+        let t = built_mut(&mut self.topology, "start_next_from")?;
+        if u.len() != t.eq.u.len() {
+            return Err(ModelError::SizeMismatch {
+                name: "start_next_from",
+                expected: t.eq.u.len(),
+                got: u.len(),
+            }
+            .into());
+        }
+        t.eq.start = Some(u.to_vec());
+        Ok(())
+    }
+
+    /// The derivatives in Poisson's ratio ν, at fixed E and loads, of the present
+    /// equilibrium's reaction force and of its heights along the scan lines x = `lines` at
+    /// the lab-frame stations `ys` (read as [`Self::profile`] reads them; NaN where there is
+    /// no surface). du/dν by direct differentiation ([`Newton::sensitivity`]: the exact
+    /// tangent's solve, preconditioned by the kept factorization); the reaction's from the
+    /// internal forces' derivative; the heights' as central differences of the height
+    /// read-out along du/dν (a geometric function of the displacements, differenced over
+    /// [`HEIGHT_STEP`]). In E no solve is needed: with the pull prescribed the
+    /// displacements do not depend on E, so ∂F/∂E = F/E and ∂h/∂E = 0.
+    ///
+    /// [`Newton::sensitivity`]: crate::solve::newton::Newton::sensitivity
+    pub fn poisson_sensitivity(
+        &mut self,
+        lines: &[f64],
+        ys: &[f64],
+    ) -> Result<Sensitivity, SceneError> {
+        let t = built_mut(&mut self.topology, "poisson_sensitivity")?;
+        let n = t.eq.u.len();
+        let (mut du, mut total) = (vec![0.0; n], vec![0.0; n]);
+        let (on, eq) = t.parts();
+        let iterations = eq.poisson_sensitivity(&on, &mut du, &mut total)?;
+        let reaction_force = t.pulled.iter().map(|n| total[3 * n + 1]).sum();
+        let largest = du.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let epsilon = if largest > 0.0 {
+            HEIGHT_STEP / largest
+        } else {
+            0.0
+        };
+        let along = |sign: f64| -> Vec<f64> {
+            t.eq.u
+                .iter()
+                .zip(&du)
+                .map(|(u, d)| u + sign * epsilon * d)
+                .collect()
+        };
+        let (plus, minus) = (along(1.0), along(-1.0));
+        let nodes = t.solid.nodes();
+        let sections = &mut Default::default();
+        let mut heights = |u: &[f64], line: f64| {
+            let mut h = vec![0.0; ys.len()];
+            t.top
+                .profile(nodes, u, line, ys.iter().copied(), &mut h, sections);
+            h
+        };
+        let profiles = lines
+            .iter()
+            .map(|&line| {
+                let (hi, lo) = (heights(&plus, line), heights(&minus, line));
+                hi.iter()
+                    .zip(&lo)
+                    .map(|(hi, lo)| {
+                        if epsilon > 0.0 {
+                            (hi - lo) / (2.0 * epsilon)
+                        } else {
+                            0.0 * hi
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        Ok(Sensitivity {
+            reaction_force,
+            profiles,
+            displacement: du,
+            iterations,
+        })
     }
 
     fn material(&self) -> Result<Material, SceneError> {

@@ -28,7 +28,7 @@ use serde::{Deserialize, Serialize};
 use super::{max_abs, norm_of, Failure, Increments, Iteration, Settings, System};
 use crate::assembly::{Assembler, Dirichlet, InternalForces};
 use crate::error::ModelError;
-use crate::linalg::{Cholesky, Factorization};
+use crate::linalg::{conjugate_gradient, Cholesky, Factorization};
 
 /// What a solve did.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -64,6 +64,15 @@ pub struct Checkpoint {
     #[serde(default)]
     pub single_precision: bool,
 }
+
+/// A sensitivity's solve stops at ‖K x − b‖ ≤ this · ‖b‖: the derivatives to about five
+/// digits (1.5e-5 relative on the default tet10 block against a solve to 1e-10, which takes
+/// half as many iterations again), where a fit's steps and intervals need two or three.
+pub const SENSITIVITY_TOLERANCE: f64 = 1e-6;
+
+/// Conjugate-gradient iterations a sensitivity's solve may take (on a kept factorization
+/// of a nearby tangent it takes a few tens at most).
+const SENSITIVITY_ITERATIONS: usize = 500;
 
 /// Multiples σ of the tangent at rest added to a tangent that is not positive definite,
 /// tried in turn ([`Bound::shifted`]).
@@ -109,6 +118,18 @@ struct Core {
     /// The largest force norm seen in this solve (the residual's scale).
     scale: f64,
     report: Report,
+    /// The buffers of [`Newton::sensitivity`], made at its first call.
+    exact: Option<Box<Exact>>,
+}
+
+/// The exact tangent at an equilibrium (full pattern and free–free part) and the vectors of
+/// a sensitivity's solve (free dofs).
+struct Exact {
+    k: Vec<f64>,
+    reduced: Vec<f64>,
+    f: Vec<f64>,
+    b: Vec<f64>,
+    x: Vec<f64>,
 }
 
 impl std::fmt::Debug for Newton {
@@ -217,6 +238,7 @@ impl Newton {
                     residuals: Vec::with_capacity(settings.max_iterations + 1),
                     ..Report::default()
                 },
+                exact: None,
                 bc,
                 chol,
                 settings,
@@ -299,6 +321,100 @@ impl Newton {
         }
         c.external.copy_from_slice(external);
         c.factorized = false;
+    }
+
+    /// Direct differentiation of the last equilibrium `u` in a parameter p of the
+    /// equations (a material constant), the prescribed displacements and the external
+    /// forces not depending on p: from r(u(p), p) = 0, du_f/dp = −K_ff⁻¹ (∂f_int/∂p)_f with
+    /// K the exact tangent at `u` and du_c/dp = 0. `partial` is ∂f_int/∂p at fixed `u` (all
+    /// dofs); du/dp goes into `du` (all dofs) and the total derivative of the internal
+    /// forces along the equilibria, ∂f_int/∂p + K du, into `total` (all dofs): at the held
+    /// dofs the reactions' derivatives, at the free ones the solve's residual. K is
+    /// assembled once; the system is solved by conjugate gradients preconditioned with the
+    /// kept factorization (a tangent of an earlier iterate, in single precision; made at `u`
+    /// if none is kept), to [`SENSITIVITY_TOLERANCE`], so the kept factorization and the
+    /// next solve are untouched. Returns the iterations taken.
+    pub fn sensitivity(
+        &mut self,
+        eq: &(impl InternalForces + ?Sized),
+        u: &[f64],
+        partial: &[f64],
+        du: &mut [f64],
+        total: &mut [f64],
+    ) -> Result<usize, ModelError> {
+        let c = &mut self.core;
+        let x = c.exact.get_or_insert_with(|| {
+            Box::new(Exact {
+                k: vec![0.0; c.k.len()],
+                reduced: vec![0.0; c.reduced.len()],
+                f: vec![0.0; c.f.len()],
+                b: vec![0.0; c.bc.n_free()],
+                x: vec![0.0; c.bc.n_free()],
+            })
+        });
+        eq.at_load_fraction(1.0);
+        eq.internal(u, &mut x.f, Some(&mut x.k))?;
+        c.bc.combine(&[(1.0, &x.k)], &mut x.reduced);
+        c.bc.reduce(partial, &mut x.b);
+        x.b.iter_mut().for_each(|b| *b = -*b);
+        x.x.fill(0.0);
+        if !c.factorized {
+            c.at.copy_from_slice(u);
+            c.s = 1.0;
+            Bound { core: c, eq }.tangent(false)?;
+        }
+        let x = c.exact.as_mut().expect("made above");
+        let iterations = conjugate_gradient::solve(
+            c.bc.matrix(&x.reduced),
+            &mut c.chol,
+            &x.b,
+            &mut x.x,
+            SENSITIVITY_TOLERANCE,
+            SENSITIVITY_ITERATIONS,
+        )?;
+        du.fill(0.0);
+        c.bc.expand(&x.x, du);
+        total.copy_from_slice(partial);
+        c.bc.add_coupled(&x.k, &x.x, total);
+        // The free rows: ∂f/∂p + K_ff x = −(b − K_ff x), the solve's residual.
+        x.b.iter_mut().for_each(|b| *b = -*b);
+        crate::assembly::mul_add(c.bc.matrix(&x.reduced), &x.x, 1.0, &mut x.b);
+        c.bc.expand(&x.b, total);
+        Ok(iterations)
+    }
+
+    /// As [`Self::solve`], but iterating first from `start` (all dofs; its held dofs taken
+    /// at the prescribed values) at the new load: a start near the answer — the equilibrium
+    /// of nearby equations moved along its derivative, a continuation in a material
+    /// constant ([`Self::sensitivity`]) — converges in a few iterations on the kept
+    /// factorization, where the path from the last equilibrium takes its increments. A
+    /// start that does not converge is dropped and the path from the last equilibrium
+    /// taken; on failure of both `u` keeps the last equilibrium.
+    pub fn solve_from(
+        &mut self,
+        eq: &(impl InternalForces + ?Sized),
+        u: &mut [f64],
+        start: &[f64],
+        prescribed: &[f64],
+        external: &[f64],
+    ) -> Result<&Report, ModelError> {
+        let c = &mut self.core;
+        let last = (c.prescribed.clone(), c.external.clone());
+        for &d in c.bc.constrained() {
+            c.prescribed[d] = prescribed[d];
+        }
+        c.external.copy_from_slice(external);
+        let mut x = start.to_vec();
+        for &d in c.bc.constrained() {
+            x[d] = prescribed[d];
+        }
+        if self.solve(eq, &mut x, prescribed, external).is_ok() {
+            u.copy_from_slice(&x);
+            return Ok(&self.core.report);
+        }
+        let c = &mut self.core;
+        (c.prescribed, c.external) = last;
+        self.solve(eq, u, prescribed, external)
     }
 
     /// Moves `u` from the last equilibrium to equilibrium under the prescribed values
