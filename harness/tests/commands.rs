@@ -191,6 +191,88 @@ fn identify_fits_a_batch_of_sets_into_one_report() {
     assert!(!out.join("identify.json").exists());
 }
 
+/// `--discretization` on set C's data with the specimen's cells cut to 2 × 4 × 4: the fit
+/// again on 3 × 6 × 6 and 4 × 8 × 8 cells, the refits written in the stored format, and the
+/// intervals in the JSON — the mesh's share and the noise's combining in quadrature into
+/// the total, the mesh's dominating on so coarse a mesh.
+#[test]
+fn identify_measures_the_meshs_share_of_the_intervals() {
+    let tmp = tempfile::tempdir().unwrap();
+    let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("../experiments/data/cutblock");
+    for file in [
+        "force_displacement_C.csv",
+        "profile_C_x25.csv",
+        "profile_C_x50.csv",
+        "profile_C_x75.csv",
+    ] {
+        std::fs::copy(shipped.join(file), tmp.path().join(file)).unwrap();
+    }
+    let specimen = std::fs::read_to_string(shipped.join("specimen_C.toml")).unwrap();
+    let coarse = specimen.replace("cells = [6, 16, 14]", "cells = [2, 4, 4]");
+    assert_ne!(coarse, specimen, "the specimen names its cells");
+    std::fs::write(tmp.path().join("specimen_C.toml"), coarse).unwrap();
+    let identify = |extra: &[&str], out: &Path| {
+        let (data, out) = (tmp.path().to_str().unwrap(), out.to_str().unwrap());
+        let args = [
+            &["identify", "--data", data, "--set", "C"],
+            extra,
+            &["--out", out],
+        ];
+        harness(&args.concat())
+    };
+    let out = tmp.path().join("out");
+    let o = identify(&["--discretization"], &out);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_files(&out, &["discretization.toml", "identify.json"]);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("identify.json")).unwrap()).unwrap();
+    let d = &json["discretization"];
+    assert_eq!(d["source"], "measured here", "{d}");
+    let cells: Vec<&serde_json::Value> = d["meshes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| &m["cells"])
+        .collect();
+    assert_eq!(
+        cells,
+        [
+            &serde_json::json!([2, 4, 4]),
+            &serde_json::json!([3, 6, 6]),
+            &serde_json::json!([4, 8, 8])
+        ]
+    );
+    let number = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{json}"));
+    for key in ["E_MPa", "nu"] {
+        let noise = 1.96 * number(&json[key]["sigma"]);
+        let mesh = number(&d[key]["halfwidth95"]);
+        let total = number(&d[key]["total_halfwidth95"]);
+        assert!(
+            (total - noise.hypot(mesh)).abs() < 1e-12 * total,
+            "{key}: {d}"
+        );
+        assert!(mesh > noise, "{key}: {d}");
+        assert_eq!(d[key]["dominant"], "mesh", "{key}: {d}");
+    }
+    let stored: toml::Value =
+        toml::from_str(&std::fs::read_to_string(out.join("discretization.toml")).unwrap()).unwrap();
+    let fit = &stored["fit"][0];
+    assert_eq!(fit["set"].as_str(), Some("C"));
+    assert_eq!(fit["mesh"].as_array().unwrap().len(), 3);
+    assert_eq!(
+        fit["mesh"][0]["nu"].as_float(),
+        json["nu"]["value"].as_f64()
+    );
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("grid convergence index"), "{report}");
+    // With ν given there is nothing to fit again: refused by name, nothing written.
+    let given = tmp.path().join("given");
+    let o = identify(&["--nu", "0.45", "--discretization"], &given);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("--nu 0.45"), "{err}");
+    assert!(!given.join("report.md").exists());
+}
+
 #[test]
 fn simulate_prints_the_series_and_names_bad_settings() {
     let tmp = tempfile::tempdir().unwrap();
@@ -456,6 +538,18 @@ fn the_quick_report_writes_every_section() {
         (format!("{e:.5}"), format!("{nu:.4}")),
         ("0.02997".into(), "0.4735".into())
     );
+    // The mesh's share from the stored refits (docs/theory/cutblock.md, "Identification"):
+    // ν's 95 % half-width 0.0113, 8 times the noise's, the total 0.0114.
+    let mesh = &fit["discretization"]["nu"];
+    assert!(
+        (number(&mesh["halfwidth95"]) - 0.0113).abs() < 0.0001,
+        "{fit}"
+    );
+    assert!(
+        (number(&mesh["total_halfwidth95"]) - 0.0114).abs() < 0.0001,
+        "{fit}"
+    );
+    assert_eq!(mesh["dominant"], "mesh", "{fit}");
 }
 
 /// `harness rankings` refuses an empty sample by name, before it writes anything.

@@ -15,6 +15,10 @@ use rayon::prelude::*;
 
 use super::plot::{self, Axis, Chart, Curve, Mark};
 use super::{Depth, Report};
+use crate::studies::cut_speed_error::cubes;
+use crate::studies::discretization::{
+    self, Discretization, Share, SAFETY_OBSERVED, SAFETY_UNOBSERVED, STORED_PATH,
+};
 use crate::studies::identify::{identify, Fit, ModelForm, FORCE_LEVEL, NU_RANGE, PROFILE_LEVEL};
 use crate::studies::measurements::{Measurements, Source};
 use crate::studies::profiles::align;
@@ -33,6 +37,17 @@ pub struct Job {
     pub model: ModelForm,
     /// Poisson's ratio held fixed, so that E alone is fitted; `None` fits ν as well.
     pub nu: Option<f64>,
+    /// Whether to measure the mesh's share of the intervals by fitting again on finer
+    /// meshes ([`Discretization::measure`]); without, the shipped sets use the stored
+    /// refits.
+    pub discretization: bool,
+}
+
+/// The mesh's share of a fit and where it comes from.
+struct MeshShare {
+    share: Discretization,
+    /// "measured here", or the stored file and how it was measured.
+    source: String,
 }
 
 /// A finished fit with its data and how long it took.
@@ -41,6 +56,9 @@ struct Done {
     data: Measurements,
     fit: Fit,
     time: Duration,
+    /// The mesh's share, where it was measured or stored (only for a fitted ν inside its
+    /// range).
+    mesh: Option<MeshShare>,
 }
 
 /// The `identify` command: one fit per job (a batch when several, run side by side),
@@ -48,9 +66,16 @@ struct Done {
 /// `identify.json` — in a batch `identify_<set>_<law>_<element>.json` per fit).
 pub fn command(jobs: Vec<Job>, out: &Path) -> Result<PathBuf> {
     anyhow::ensure!(!jobs.is_empty(), "no measurement set to fit (--set)");
+    if let Some(nu) = jobs.iter().find(|j| j.discretization).and_then(|j| j.nu) {
+        anyhow::bail!(
+            "--discretization fits ν again on finer meshes: it needs ν fitted, not given \
+             (--nu {nu})"
+        );
+    }
     let mut report = Report::create(out, "Material identification")?;
     let done = run(jobs)?;
     summary(&mut report, &done);
+    write_measured(&mut report, &done)?;
     for d in &done {
         let json = match done.len() {
             1 => "identify.json".to_string(),
@@ -85,6 +110,7 @@ pub fn shipped(report: &mut Report, depth: Depth) -> Result<()> {
                 set: set.into(),
                 model,
                 nu: None,
+                discretization: false,
             });
         }
     }
@@ -129,15 +155,81 @@ fn run(jobs: Vec<Job>) -> Result<Vec<Done>> {
             };
             let start = Instant::now();
             let fit = identify(&data, &job.model, job.nu, &observe)?;
+            let time = start.elapsed();
+            let observe = |cells: [u32; 3], nu: f64, chi2: f64| {
+                bar.set_message(format!(
+                    "{name} on {} cells: ν = {nu:.5}, χ² = {chi2:.4e}",
+                    cubes(cells.map(f64::from))
+                ));
+                bar.tick();
+            };
+            let mesh = mesh_share(&job, &data, &fit, time, &observe)?;
             bar.finish_and_clear();
             Ok(Done {
                 job,
                 data,
                 fit,
-                time: start.elapsed(),
+                time,
+                mesh,
             })
         })
         .collect()
+}
+
+/// The mesh's share of a fit of ν inside its range: measured if the job asks, else the
+/// stored one of a shipped set, if any.
+fn mesh_share(
+    job: &Job,
+    data: &Measurements,
+    fit: &Fit,
+    time: Duration,
+    observe: &(dyn Fn([u32; 3], f64, f64) + Sync),
+) -> Result<Option<MeshShare>> {
+    if fit.sigma_nu.is_none() || fit.at_bound {
+        return Ok(None);
+    }
+    if job.discretization {
+        let share = Discretization::measure(data, &job.model, fit, time.as_secs_f64(), observe)?;
+        return Ok(Some(MeshShare {
+            share,
+            source: "measured here".into(),
+        }));
+    }
+    if job.data != Source::Shipped {
+        return Ok(None);
+    }
+    let stored = discretization::stored(&job.set, &job.model, &data.specimen, fit)?;
+    Ok(stored.map(|(share, measured)| MeshShare {
+        share,
+        source: format!("stored in `{STORED_PATH}`, measured {measured}"),
+    }))
+}
+
+/// Writes the refits measured here to `discretization.toml` in the format of
+/// [`STORED_PATH`] (the file to copy there when the model changes).
+fn write_measured(report: &mut Report, done: &[Done]) -> Result<()> {
+    let measured: Vec<(&str, ModelForm, &Discretization)> = done
+        .iter()
+        .filter(|d| d.job.discretization)
+        .filter_map(|d| Some((d.job.set.as_str(), d.fit.model, &d.mesh.as_ref()?.share)))
+        .collect();
+    if measured.is_empty() {
+        return Ok(());
+    }
+    let sets: Vec<&str> = measured.iter().map(|(set, ..)| *set).collect();
+    let how = format!(
+        "`harness identify --set {} --material {} --element {} --discretization` (harness {})",
+        sets.join(","),
+        done[0].fit.model.law.name(),
+        done[0].fit.model.element.name(),
+        env!("CARGO_PKG_VERSION")
+    );
+    discretization::write(&measured, &how, &report.path("discretization.toml"))?;
+    report.file(
+        &format!("the refits, in the format of `{STORED_PATH}`"),
+        "discretization.toml",
+    );
+    Ok(())
 }
 
 /// Whether the fit is at the noise level, in words.
@@ -154,32 +246,29 @@ fn verdict(d: &Done) -> &'static str {
 
 fn summary(report: &mut Report, done: &[Done]) {
     report.text(&format!(
-        "E and ν with 95 % intervals (±1.96 σ from the derivatives in ν and the stated \
-         noise; none where ν ran to its bound) and their correlation; the residuals against \
-         the noise: a model that matches the experiment gives force RMS / σ_F ≤ \
-         {FORCE_LEVEL} and profile RMS / σ_P ≤ {PROFILE_LEVEL}. The intervals are the \
-         noise's share only: the mesh's share of ν is larger (on the shipped set A ν moves \
-         by 0.031 and E by +0.28 % from the specimens' cells to twice as many along each \
-         axis; docs/theory/cutblock.md, \"Identification\")."
+        "E and ν with 95 % intervals: the noise's (±1.96 σ from the derivatives in ν and the \
+         stated noise), the mesh's (the grid convergence index of the same fit on finer \
+         meshes, `harness identify --discretization`; stored for the shipped sets) and the \
+         total (the two in quadrature), and which of the two dominates; none where ν ran to \
+         its bound. Then the correlation of E and ν and the residuals against the noise: a \
+         model that matches the experiment gives force RMS / σ_F ≤ {FORCE_LEVEL} and profile \
+         RMS / σ_P ≤ {PROFILE_LEVEL}."
     ));
     let rows: Vec<Vec<String>> = done
         .iter()
         .map(|d| {
             let f = &d.fit;
             let noise = d.data.specimen.noise;
+            let [e, nu] = intervals(d);
             vec![
                 d.job.set.clone(),
                 f.model.to_string(),
-                if f.at_bound {
-                    format!("{:.5}", f.e)
-                } else {
-                    format!("{:.5} ± {:.5}", f.e, 1.96 * f.sigma_e)
-                },
-                match f.sigma_nu {
-                    None => format!("{:.4} (given)", f.nu),
-                    Some(_) if f.at_bound => format!("{:.4} (bound)", f.nu),
-                    Some(s) => format!("{:.4} ± {:.4}", f.nu, 1.96 * s),
-                },
+                e.estimate(),
+                nu.estimate(),
+                format!("{} / {}", e.noise(), nu.noise()),
+                format!("{} / {}", e.mesh(), nu.mesh()),
+                format!("{} / {}", e.total(), nu.total()),
+                dominant(&[e, nu]),
                 f.correlation
                     .filter(|_| !f.at_bound)
                     .map_or("–".into(), |c| format!("{c:+.2}")),
@@ -196,6 +285,10 @@ fn summary(report: &mut Report, done: &[Done]) {
             "model",
             "E (MPa)",
             "ν",
+            "noise ± E / ν",
+            "mesh ± E / ν",
+            "total ± E / ν",
+            "dominates",
             "corr.",
             "force RMS / σ_F",
             "profile RMS / σ_P",
@@ -206,7 +299,117 @@ fn summary(report: &mut Report, done: &[Done]) {
     );
 }
 
-/// The file stem of a fit's plots and results.
+/// One parameter's estimate and 95 % half-widths, as printed.
+#[derive(Debug, Clone, Copy)]
+struct Interval {
+    name: &'static str,
+    value: f64,
+    /// Decimals printed.
+    digits: usize,
+    /// The noise's half-width; `None` where there is none (ν given, or at its bound).
+    noise: Option<f64>,
+    /// The mesh's share, where measured or stored.
+    mesh: Option<Share>,
+    /// Whether the value is given rather than fitted.
+    given: bool,
+    /// Whether ν ran to its bound (no material values, no intervals).
+    at_bound: bool,
+}
+
+impl Interval {
+    fn number(&self, x: f64) -> String {
+        format!("{x:.*}", self.digits)
+    }
+
+    fn estimate(&self) -> String {
+        let value = self.number(self.value);
+        match (self.given, self.at_bound) {
+            (true, _) => format!("{value} (given)"),
+            (false, true) => format!("{value} (bound)"),
+            _ => value,
+        }
+    }
+
+    fn noise(&self) -> String {
+        self.noise
+            .map_or("–".into(), |h| format!("±{}", self.number(h)))
+    }
+
+    fn mesh(&self) -> String {
+        match (self.noise, self.mesh) {
+            (Some(_), Some(m)) => format!("±{}", self.number(m.halfwidth)),
+            _ => "–".into(),
+        }
+    }
+
+    /// The total half-width: the noise's alone where the mesh's is not known.
+    fn total_halfwidth(&self) -> Option<f64> {
+        let noise = self.noise?;
+        Some(self.mesh.map_or(noise, |m| m.total(noise)))
+    }
+
+    fn total(&self) -> String {
+        match (self.total_halfwidth(), self.mesh) {
+            (Some(t), Some(_)) => format!("±{}", self.number(t)),
+            (Some(t), None) => format!("±{} (noise only)", self.number(t)),
+            (None, _) => "–".into(),
+        }
+    }
+
+    /// "mesh" or "noise", whichever half-width is the larger; `None` without both.
+    fn dominant(&self) -> Option<&'static str> {
+        let (noise, mesh) = (self.noise?, self.mesh?.halfwidth);
+        Some(if mesh > noise { "mesh" } else { "noise" })
+    }
+}
+
+/// E's and ν's intervals of a fit.
+fn intervals(d: &Done) -> [Interval; 2] {
+    let f = &d.fit;
+    let fitted = |sigma: Option<f64>| sigma.filter(|_| !f.at_bound).map(|s| 1.96 * s);
+    let share = |get: fn(&Discretization) -> Share| d.mesh.as_ref().map(|m| get(&m.share));
+    [
+        Interval {
+            name: "E (MPa)",
+            value: f.e,
+            digits: 5,
+            noise: fitted(Some(f.sigma_e)),
+            mesh: share(|s| s.e),
+            given: false,
+            at_bound: f.at_bound,
+        },
+        Interval {
+            name: "ν",
+            value: f.nu,
+            digits: 4,
+            noise: fitted(f.sigma_nu),
+            mesh: share(|s| s.nu),
+            given: f.sigma_nu.is_none(),
+            at_bound: f.at_bound,
+        },
+    ]
+}
+
+/// Which share dominates each parameter's interval, e.g. "mesh (E, ν)".
+fn dominant(intervals: &[Interval]) -> String {
+    let mut by: Vec<(&str, Vec<&str>)> = Vec::new();
+    for i in intervals {
+        let Some(d) = i.dominant() else { continue };
+        let name = i.name.split(' ').next().unwrap_or(i.name);
+        match by.iter_mut().find(|(k, _)| *k == d) {
+            Some((_, names)) => names.push(name),
+            None => by.push((d, vec![name])),
+        }
+    }
+    if by.is_empty() {
+        return "–".into();
+    }
+    by.iter()
+        .map(|(d, names)| format!("{d} ({})", names.join(", ")))
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
 /// Seed 002's eqs. 4.1 and 4.2 on the same data, with their bias against the fit and what
 /// the seed's E makes of the measured force.
 fn seed_method(m: &Measurements, f: &Fit) -> String {
@@ -248,6 +451,7 @@ fn seed_method(m: &Measurements, f: &Fit) -> String {
     text
 }
 
+/// The file stem of a fit's plots and results.
 fn stem(d: &Done) -> String {
     format!("identify_{}_{}", d.job.set, d.fit.model).replace([' ', '-'], "_")
 }
@@ -264,8 +468,8 @@ fn fit_section(report: &mut Report, d: &Done, json: &str) -> Result<()> {
     ));
     report.text(&format!(
         "Specimen: {} × {} × {} mm, cut at y = {} mm, {} mm deep, x from 0 to {} mm, {} \
-         supports, {} × {} × {} cells. {} force points (σ_F = {} N), {} profile points \
-         (σ_P = {} mm). {} runs of the scene, {:.0} s.",
+         supports, {} × {} × {} cells ({}). {} force points (σ_F = {} N), {} profile \
+         points (σ_P = {} mm). {} runs of the scene, {:.0} s.",
         s.size[0],
         s.size[1],
         s.size[2],
@@ -276,6 +480,11 @@ fn fit_section(report: &mut Report, d: &Done, json: &str) -> Result<()> {
         s.cells[0],
         s.cells[1],
         s.cells[2],
+        if s.mesh_grading == 1.0 {
+            "uniform layers".to_string()
+        } else {
+            format!("layers graded with β = {}", s.mesh_grading)
+        },
         m.force.len(),
         noise.force,
         m.profiles.iter().map(|s| s.points.len()).sum::<usize>(),
@@ -283,31 +492,7 @@ fn fit_section(report: &mut Report, d: &Done, json: &str) -> Result<()> {
         f.evaluations,
         d.time.as_secs_f64()
     ));
-    let mut rows = vec![vec![
-        "E (MPa)".to_string(),
-        format!("{:.5}", f.e),
-        format!("{:.2e}", f.sigma_e),
-        format!(
-            "[{:.5}, {:.5}]",
-            f.e - 1.96 * f.sigma_e,
-            f.e + 1.96 * f.sigma_e
-        ),
-    ]];
-    match f.sigma_nu {
-        Some(sn) => rows.push(vec![
-            "ν".into(),
-            format!("{:.4}", f.nu),
-            format!("{sn:.2e}"),
-            format!("[{:.4}, {:.4}]", f.nu - 1.96 * sn, f.nu + 1.96 * sn),
-        ]),
-        None => rows.push(vec![
-            "ν (given)".into(),
-            f.nu.to_string(),
-            "–".into(),
-            "–".into(),
-        ]),
-    }
-    report.table(&["parameter", "estimate", "σ", "95 % interval"], &rows);
+    parameters(report, d);
     if f.at_bound {
         report.text(&format!(
             "ν ran to the end of the search interval [{}, {}]: no admissible ν fits the \
@@ -350,6 +535,101 @@ fn fit_section(report: &mut Report, d: &Done, json: &str) -> Result<()> {
     Ok(())
 }
 
+/// The parameters' table: estimate, σ, the three 95 % intervals and the converged mesh's
+/// value; then the mesh's share: its fits, which share dominates.
+fn parameters(report: &mut Report, d: &Done) {
+    let f = &d.fit;
+    let rows: Vec<Vec<String>> = intervals(d)
+        .iter()
+        .zip([Some(f.sigma_e), f.sigma_nu])
+        .map(|(i, sigma)| {
+            let around = |h: Option<f64>| {
+                h.map_or("–".into(), |h| {
+                    format!("[{}, {}]", i.number(i.value - h), i.number(i.value + h))
+                })
+            };
+            vec![
+                i.name.into(),
+                i.estimate(),
+                sigma.map_or("–".into(), |s| format!("{s:.2e}")),
+                around(i.noise),
+                around(i.noise.and(i.mesh.map(|m| m.halfwidth))),
+                around(i.total_halfwidth()),
+                i.mesh.map_or("–".into(), |m| i.number(m.limit)),
+            ]
+        })
+        .collect();
+    report.table(
+        &[
+            "parameter",
+            "estimate",
+            "σ",
+            "noise 95 %",
+            "mesh 95 %",
+            "total 95 %",
+            "converged mesh",
+        ],
+        &rows,
+    );
+    match &d.mesh {
+        Some(m) => mesh_text(report, d, m),
+        None if f.sigma_nu.is_some() && !f.at_bound => report.text(
+            "The mesh's share is not known for this set: `--discretization` measures it \
+             (the same fit on the specimen's cells × 1.5 and × 2), and the total is the \
+             noise's alone until then.",
+        ),
+        None => {}
+    }
+}
+
+/// The mesh's share: the fits on three meshes, the orders and which share dominates.
+fn mesh_text(report: &mut Report, d: &Done, m: &MeshShare) {
+    let share = &m.share;
+    let order = |s: &Share| match (s.observed, s.order()) {
+        (Some(seen), Some(p)) if seen > p => format!(
+            "order {seen:.2} observed, extrapolated at {p}; ×{SAFETY_OBSERVED} the change to \
+             the limit"
+        ),
+        (_, Some(p)) => format!("order {p:.2}, ×{SAFETY_OBSERVED} the change to the limit"),
+        _ => format!("no order observed: the finest fit, ×{SAFETY_UNOBSERVED} the change to it"),
+    };
+    report.text(&format!(
+        "The mesh's share: the same fit on finer meshes, extrapolated by Richardson to the \
+         converged mesh; its 95 % half-width is Roache's grid convergence index of the fit on \
+         the specimen's cells (E: {}; ν: {}); `harness/src/studies/discretization.rs` says \
+         how. The fits, {}:",
+        order(&share.e),
+        order(&share.nu),
+        m.source,
+    ));
+    let rows: Vec<Vec<String>> = share
+        .meshes
+        .iter()
+        .map(|f| {
+            vec![
+                cubes(f.cells.map(f64::from)),
+                format!("{:.5}", f.e),
+                format!("{:.4}", f.nu),
+                f.runs.to_string(),
+                format!("{:.0}", f.seconds),
+            ]
+        })
+        .collect();
+    report.table(&["cells", "E (MPa)", "ν", "runs", "time (s)"], &rows);
+    let [e, nu] = intervals(d);
+    let ratio = |i: &Interval| match (i.noise, i.mesh) {
+        (Some(n), Some(m)) => format!("{:.1}", m.halfwidth / n),
+        _ => "–".into(),
+    };
+    report.text(&format!(
+        "The interval is dominated by {}: the mesh's half-width is {} times the noise's for \
+         E and {} times for ν.",
+        dominant(&[e, nu]),
+        ratio(&e),
+        ratio(&nu)
+    ));
+}
+
 /// The fit as JSON: values, 95 % intervals, correlation, residuals against the noise, each
 /// scan line's deviation, the verdict (`docs/reference/data-formats.md`).
 fn results(d: &Done) -> serde_json::Value {
@@ -379,6 +659,7 @@ fn results(d: &Done) -> serde_json::Value {
             "search_interval": [NU_RANGE.0, NU_RANGE.1],
         },
         "correlation": f.correlation,
+        "discretization": d.mesh.as_ref().map(|m| discretization_json(d, m)),
         "seed_method": {
             "E_MPa": seed.e,
             "section_mm2": seed.section,
@@ -413,6 +694,28 @@ fn results(d: &Done) -> serde_json::Value {
         "warnings": f.response.warnings,
         "runs": f.evaluations,
         "seconds": d.time.as_secs_f64(),
+    })
+}
+
+/// The mesh's share as JSON: its fits, and for E and ν the converged mesh's value, the
+/// order, the mesh's and the total 95 % half-widths and which dominates.
+fn discretization_json(d: &Done, m: &MeshShare) -> serde_json::Value {
+    let [e, nu] = intervals(d);
+    let parameter = |i: &Interval, s: &Share| {
+        serde_json::json!({
+            "limit": s.limit,
+            "observed_order": s.observed,
+            "order": s.order(),
+            "halfwidth95": s.halfwidth,
+            "total_halfwidth95": i.total_halfwidth(),
+            "dominant": i.dominant(),
+        })
+    };
+    serde_json::json!({
+        "source": m.source,
+        "meshes": m.share.meshes,
+        "E_MPa": parameter(&e, &m.share.e),
+        "nu": parameter(&nu, &m.share.nu),
     })
 }
 

@@ -25,6 +25,7 @@
 //!
 //! Uncertainty: the Gauss–Newton covariance (JᵀJ)⁻¹ of the weighted residuals in (E, ν) at
 //! the optimum, from the same derivatives; intervals are ±1.96 σ under the stated noise.
+//! That is the noise's share; the mesh's share is [`super::discretization`]'s.
 //! Model-form check: the RMS force residual against σ_F (χ² per point) and the profile RMS
 //! against σ_P; a fit is at the noise level within [`FORCE_LEVEL`] and [`PROFILE_LEVEL`]
 //! of them.
@@ -36,7 +37,7 @@ use models::assembly::tetrahedra::Tetrahedron;
 use models::element::Law;
 use std::collections::BTreeMap;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, ensure, Context, Result};
 use models::scene::cutblock::{CutBlock, PROFILE_STEP};
 use models::scene::Scene;
 
@@ -365,13 +366,14 @@ fn gauss_newton_step(r: &Response, m: &Measurements) -> (f64, f64) {
     (-jr / jj, 1.0 / jj.sqrt())
 }
 
-/// ν by Gauss–Newton from [`NU_START`] (see the module's text): the response at the
+/// ν by Gauss–Newton from `start` (see the module's text): the response at the
 /// fitted ν (with slopes), the runs made, and whether the last step pointed beyond the end
 /// of [`NU_RANGE`] (the model's best ν lies outside what it can take). `observe(ν, χ²)`
 /// after each run.
 fn fit_nu(
     m: &Measurements,
     model: &ModelForm,
+    start: f64,
     observe: &(dyn Fn(f64, f64) + Sync),
 ) -> Result<(Response, usize, bool)> {
     let evaluate = |nu: f64, from: Option<&Response>| -> Result<(Response, f64)> {
@@ -380,7 +382,7 @@ fn fit_nu(
         observe(nu, chi);
         Ok((r, chi))
     };
-    let (mut best, mut chi) = evaluate(NU_START, None)?;
+    let (mut best, mut chi) = evaluate(start, None)?;
     let mut runs = 1;
     loop {
         let nu = best.nu;
@@ -436,8 +438,34 @@ pub fn identify(
         None if !m.has_profiles() => {
             bail!("the set has no profiles to fit ν to: give ν (--nu) to fit E alone")
         }
-        None => fit_nu(m, model, observe)?,
+        None => fit_nu(m, model, NU_START, observe)?,
     };
+    finish(m, model, fixed_nu.is_none(), r, evaluations, at_bound)
+}
+
+/// Fits ν and E of `model` to `m` (which has profiles) with the iteration started at
+/// `start`: a fit of the same data on another mesh ([`super::discretization`]).
+pub fn refit(
+    m: &Measurements,
+    model: &ModelForm,
+    start: f64,
+    observe: &(dyn Fn(f64, f64) + Sync),
+) -> Result<Fit> {
+    ensure!(m.has_profiles(), "the set has no profiles to fit ν to");
+    let (r, evaluations, at_bound) = fit_nu(m, model, start, observe)?;
+    finish(m, model, true, r, evaluations, at_bound)
+}
+
+/// The fit at the response `r` at the final ν (fitted if `fitted`, else given): E, the
+/// covariance and the residuals.
+fn finish(
+    m: &Measurements,
+    model: &ModelForm,
+    fitted: bool,
+    r: Response,
+    evaluations: usize,
+    at_bound: bool,
+) -> Result<Fit> {
     // The states served the iteration's starts: no part of the result.
     let r = Response {
         states: Vec::new(),
@@ -445,7 +473,7 @@ pub fn identify(
     };
     let nu = r.nu;
     let e = fit_e(&r.force_per_e, m);
-    let covariance = if fixed_nu.is_none() {
+    let covariance = if fitted {
         Some(covariance(m, e, &r)?)
     } else {
         None
@@ -509,17 +537,19 @@ fn covariance(m: &Measurements, e: f64, r: &Response) -> Result<[[f64; 2]; 2]> {
     ])
 }
 
+/// Noise-free data for the tests of the fit and of its mesh's share.
 #[cfg(test)]
-mod tests {
+pub(crate) mod fixtures {
     use super::*;
     use crate::studies::measurements::{Noise, Scan};
 
-    /// A specimen other than the default: coarser, cut at y = 35 mm, 6 mm deep, scanned
+    /// A specimen other than the default: `cells`, cut at y = 35 mm, 6 mm deep, scanned
     /// along x = 30 and 60 mm.
-    fn specimen() -> Specimen {
+    pub fn specimen(cells: [u32; 3]) -> Specimen {
         Specimen {
             size: [100.0, 80.0, 17.0],
-            cells: [4, 8, 6],
+            cells,
+            mesh_grading: 1.0,
             y_cut: 35.0,
             cut_depth: 6.0,
             cut_x: 100.0,
@@ -532,13 +562,21 @@ mod tests {
         }
     }
 
-    /// Noise-free data of `model` with known E and ν on [`specimen`], pulls 0, 2, …, 10 mm.
-    fn synthetic(model: &ModelForm, e: f64, nu: f64) -> Measurements {
+    /// Noise-free data of `model` with known E and ν made on [`specimen`]`(made_on)`, pulls
+    /// 0, 2, …, 10 mm, for a specimen of `cells`.
+    pub fn synthetic(
+        model: &ModelForm,
+        e: f64,
+        nu: f64,
+        made_on: [u32; 3],
+        cells: [u32; 3],
+    ) -> Measurements {
         let displacement: Vec<f64> = (0..=5).map(|k| 2.0 * f64::from(k)).collect();
-        let lines = specimen().scan_lines;
-        let r = run(&specimen(), &displacement, model, nu, &lines, false, None).unwrap();
+        let made = specimen(made_on);
+        let lines = made.scan_lines.clone();
+        let r = run(&made, &displacement, model, nu, &lines, false, None).unwrap();
         Measurements {
-            specimen: specimen(),
+            specimen: specimen(cells),
             force: r.force_per_e.iter().map(|g| e * g).collect(),
             displacement,
             profiles: lines
@@ -555,6 +593,18 @@ mod tests {
                 })
                 .collect(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cells of the tests' specimen.
+    const CELLS: [u32; 3] = [4, 8, 6];
+
+    fn synthetic(model: &ModelForm, e: f64, nu: f64) -> Measurements {
+        fixtures::synthetic(model, e, nu, CELLS, CELLS)
     }
 
     /// On noise-free data along scan lines other than the seed's, the fit lands on the

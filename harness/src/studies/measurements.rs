@@ -158,6 +158,11 @@ fn seed_scan_lines() -> Vec<f64> {
     vec![25.0, 50.0, 75.0]
 }
 
+/// Uniform layers: the default [`Specimen::mesh_grading`].
+fn uniform() -> f64 {
+    1.0
+}
+
 /// The specimen a set was measured on: what the scene is built with to fit it.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -166,6 +171,10 @@ pub struct Specimen {
     pub size: [f64; 3],
     /// Cubes of the mirrored mesh along x, y, z.
     pub cells: [u32; 3],
+    /// β of the layers' grading towards the cut plane, the crack front and the faces (the
+    /// scene's `mesh_grading`; 1: uniform).
+    #[serde(default = "uniform")]
+    pub mesh_grading: f64,
     /// Cut plane (mm) and depth from the top (mm).
     pub y_cut: f64,
     /// Cut depth from the top (mm).
@@ -251,6 +260,7 @@ impl Specimen {
                 Value::Real(f64::from(self.cells[k])),
             ));
         }
+        out.push(("mesh_grading".into(), Value::Real(self.mesh_grading)));
         out.push(("y_cut".into(), Value::Real(self.y_cut)));
         out.push(("cut_depth".into(), Value::Real(self.cut_depth)));
         out.push(("support".into(), Value::Text(self.support.clone())));
@@ -598,6 +608,10 @@ mod tests {
                 "size[1] = -80",
             ),
             (("support = \"clamped\"", "support = \"glued\""), "glued"),
+            (
+                ("cut_x = 100.0", "cut_x = 100.0\nmesh_grading = 5.0"),
+                "mesh_grading = 5",
+            ),
         ];
         for (replace, expected) in cases {
             let e = error(replace, &[]);

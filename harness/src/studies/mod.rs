@@ -18,6 +18,7 @@
 
 pub mod blade_path;
 pub mod cut_speed_error;
+pub mod discretization;
 pub mod fields;
 pub mod findings;
 pub mod identify;

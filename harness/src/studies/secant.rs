@@ -92,6 +92,7 @@ mod tests {
             specimen: Specimen {
                 size: [10.0, l0, b0],
                 cells: [1, 1, 1],
+                mesh_grading: 1.0,
                 y_cut: 0.0,
                 cut_depth: 0.0,
                 cut_x: 0.0,
