@@ -228,6 +228,7 @@ fn identify_measures_the_meshs_share_of_the_intervals() {
         serde_json::from_str(&std::fs::read_to_string(out.join("identify.json")).unwrap()).unwrap();
     let d = &json["discretization"];
     assert_eq!(d["source"], "measured here", "{d}");
+    assert_eq!(d["at_bound"], false, "{d}");
     let cells: Vec<&serde_json::Value> = d["meshes"]
         .as_array()
         .unwrap()
@@ -538,6 +539,8 @@ fn the_quick_report_writes_every_section() {
         (format!("{e:.5}"), format!("{nu:.4}")),
         ("0.02997".into(), "0.4735".into())
     );
+    // In two runs: the second step (0.4 σ) is taken along the derivatives.
+    assert_eq!(fit["runs"], 2, "{fit}");
     // The mesh's share from the stored refits (docs/theory/cutblock.md, "Identification"):
     // ν's 95 % half-width 0.0113, 8 times the noise's, the total 0.0114.
     let mesh = &fit["discretization"]["nu"];

@@ -57,6 +57,7 @@ fn neo_hookean_tet10_fits_set_a_to_the_noise_level() {
     let (d, _) = stored("A", &f.model, &m.specimen, &f)
         .unwrap()
         .expect("set A's refits are stored");
+    assert!(!d.at_bound());
     let (noise_e, noise_nu) = (1.96 * f.sigma_e, 1.96 * f.sigma_nu.unwrap());
     assert!((d.nu.halfwidth - 0.0432).abs() < 0.0001, "{:?}", d.nu);
     assert!((d.nu.total(noise_nu) - 0.0433).abs() < 0.0001, "{:?}", d.nu);

@@ -616,6 +616,14 @@ fn mesh_text(report: &mut Report, d: &Done, m: &MeshShare) {
         })
         .collect();
     report.table(&["cells", "E (MPa)", "ν", "runs", "time (s)"], &rows);
+    if share.at_bound() {
+        report.text(&format!(
+            "On a finer mesh ν ran to the end of its search interval [{}, {}]: the converged \
+             model fits no admissible ν to these data, and the mesh's share is at least the \
+             interval above.",
+            NU_RANGE.0, NU_RANGE.1
+        ));
+    }
     let [e, nu] = intervals(d);
     let ratio = |i: &Interval| match (i.noise, i.mesh) {
         (Some(n), Some(m)) => format!("{:.1}", m.halfwidth / n),
@@ -714,6 +722,7 @@ fn discretization_json(d: &Done, m: &MeshShare) -> serde_json::Value {
     serde_json::json!({
         "source": m.source,
         "meshes": m.share.meshes,
+        "at_bound": m.share.at_bound(),
         "E_MPa": parameter(&e, &m.share.e),
         "nu": parameter(&nu, &m.share.nu),
     })

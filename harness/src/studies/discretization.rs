@@ -9,12 +9,12 @@
 //! with F_s = [`SAFETY_OBSERVED`] when the three fits converge at an observed order of at
 //! least [`MIN_ORDER`] (extrapolated at the smaller of it and [`MAX_ORDER`], as Roache
 //! advises where the observed order exceeds the formal one), and otherwise f∞ taken as the
-//! finest fit and F_s = [`SAFETY_UNOBSERVED`] (his factor where no order is observed). The total
-//! interval adds it to the noise's ±1.96 σ in quadrature, the two taken as independent 95 %
-//! half-widths.
+//! finest fit and F_s = [`SAFETY_UNOBSERVED`] (his factor where no order is observed). The
+//! total interval adds it to the noise's ±1.96 σ in quadrature, the two taken as
+//! independent 95 % half-widths.
 //!
-//! Each finer fit starts at the ν of the next coarser one. Mesh size h ∝ (n_x n_y n_z)^(−1/3)
-//! of each fit's cells (the refined cells are rounded to whole numbers).
+//! Each finer fit starts at the ν of the next coarser one. Mesh size h ∝ (n_x n_y
+//! n_z)^(−1/3) of each fit's cells (the refined cells rounded to whole numbers).
 //!
 //! The shipped sets' refits are stored ([`STORED`]): the neo-Hookean tet10 fit on 12 × 32 ×
 //! 28 cells takes about ten minutes and 3.4 GB, so the reports use the stored fits once the
@@ -58,14 +58,17 @@ pub const STORED_PATH: &str = "experiments/references/identification.toml";
 pub struct MeshFit {
     /// Cells along x, y and z.
     pub cells: [u32; 3],
-    /// Young's modulus (MPa) and Poisson's ratio fitted.
+    /// Young's modulus fitted (MPa).
     pub e: f64,
     /// Poisson's ratio fitted.
     pub nu: f64,
-    /// Runs of the scene and the fit's wall time.
+    /// Runs of the scene the fit made.
     pub runs: usize,
     /// The fit's wall time (s).
     pub seconds: f64,
+    /// Whether ν ran to an end of its search interval on this mesh.
+    #[serde(default)]
+    pub at_bound: bool,
 }
 
 impl MeshFit {
@@ -136,6 +139,12 @@ pub struct Discretization {
 }
 
 impl Discretization {
+    /// Whether ν ran to an end of its search interval on a finer mesh: the converged model
+    /// then fits no admissible ν, and the share is at least what it says.
+    pub fn at_bound(&self) -> bool {
+        self.meshes.iter().any(|m| m.at_bound)
+    }
+
     /// The shares from fits on three meshes, coarse to fine, graded with β = `grading`.
     pub fn of(meshes: [MeshFit; 3], grading: f64) -> Result<Self> {
         let h = meshes.each_ref().map(|m| m.size(meshes[0].cells));
@@ -214,6 +223,7 @@ impl MeshFit {
             nu: fit.nu,
             runs: fit.evaluations,
             seconds,
+            at_bound: fit.at_bound,
         }
     }
 }
@@ -234,20 +244,15 @@ struct StoredFit {
     material: String,
     element: String,
     /// The specimen's `mesh_grading`, which every refit keeps.
-    #[serde(default = "uniform")]
+    #[serde(default = "super::measurements::uniform")]
     mesh_grading: f64,
     mesh: Vec<MeshFit>,
 }
 
-/// Uniform layers, the default grading.
-fn uniform() -> f64 {
-    1.0
-}
-
 /// The stored refits of the shipped set `set` with `model` on the cells and grading of
-/// `specimen`, and how they were measured: `Ok(None)` where none are stored; an error where the stored fit on these cells
-/// differs from `fit` by more than [`STORED_MATCH`] of its σ (the model changed since they
-/// were measured).
+/// `specimen`, and how they were measured: `Ok(None)` where none are stored; an error where
+/// the stored fit on these cells differs from `fit` by more than [`STORED_MATCH`] of its σ
+/// (the model changed since they were measured).
 pub fn stored(
     set: &str,
     model: &ModelForm,
@@ -304,6 +309,7 @@ mod tests {
             nu,
             runs: 2,
             seconds: 1.0,
+            at_bound: false,
         }
     }
 
@@ -341,6 +347,10 @@ mod tests {
         assert_eq!(d.nu.observed, None);
         assert_eq!(d.nu.limit, 0.46);
         assert!((d.nu.halfwidth - 3.0 * 0.01).abs() < 1e-12, "{:?}", d.nu);
+        assert!(!d.at_bound());
+        let mut bound = [0, 1, 2].map(|k| mesh(cells[k], 0.05, zigzag[k]));
+        bound[2].at_bound = true;
+        assert!(Discretization::of(bound, 1.0).unwrap().at_bound());
         let coarser = [cells[0], cells[2], cells[1]].map(|c| mesh(c, 0.05, 0.45));
         let e = Discretization::of(coarser, 1.0).unwrap_err();
         assert!(e.to_string().contains("not ever finer"), "{e}");

@@ -159,7 +159,7 @@ fn seed_scan_lines() -> Vec<f64> {
 }
 
 /// Uniform layers: the default [`Specimen::mesh_grading`].
-fn uniform() -> f64 {
+pub(crate) fn uniform() -> f64 {
     1.0
 }
 
