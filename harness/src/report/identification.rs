@@ -198,7 +198,8 @@ fn mesh_share(
     if job.data != Source::Shipped {
         return Ok(None);
     }
-    let stored = discretization::stored(&job.set, &job.model, &data.specimen, fit)?;
+    let seconds = time.as_secs_f64();
+    let stored = discretization::stored(&job.set, &job.model, &data.specimen, fit, seconds)?;
     Ok(stored.map(|(share, measured)| MeshShare {
         share,
         source: format!("stored in `{STORED_PATH}`, measured {measured}"),

@@ -252,12 +252,14 @@ struct StoredFit {
 /// The stored refits of the shipped set `set` with `model` on the cells and grading of
 /// `specimen`, and how they were measured: `Ok(None)` where none are stored; an error where
 /// the stored fit on these cells differs from `fit` by more than [`STORED_MATCH`] of its σ
-/// (the model changed since they were measured).
+/// (the model changed since they were measured). The first mesh's fit is then `fit`, made
+/// in `seconds`; `Ok(None)` too where ν was given.
 pub fn stored(
     set: &str,
     model: &ModelForm,
     specimen: &Specimen,
     fit: &Fit,
+    seconds: f64,
 ) -> Result<Option<(Discretization, String)>> {
     let cells = specimen.cells;
     let Stored {
@@ -277,7 +279,9 @@ pub fn stored(
         anyhow::anyhow!("{STORED_PATH}: set {set} has {} meshes, not 3", m.len())
     })?;
     let first = &meshes[0];
-    let sigma_nu = fit.sigma_nu.unwrap_or(f64::INFINITY);
+    let Some(sigma_nu) = fit.sigma_nu else {
+        return Ok(None);
+    };
     ensure!(
         (first.e - fit.e).abs() <= STORED_MATCH * fit.sigma_e
             && (first.nu - fit.nu).abs() <= STORED_MATCH * sigma_nu,
@@ -291,8 +295,12 @@ pub fn stored(
         first.e,
         first.nu
     );
-    let grading = specimen.mesh_grading;
-    Ok(Some((Discretization::of(meshes, grading)?, measured)))
+    let [_, finer, finest] = meshes;
+    let meshes = [MeshFit::of(fit, cells, seconds), finer, finest];
+    Ok(Some((
+        Discretization::of(meshes, specimen.mesh_grading)?,
+        measured,
+    )))
 }
 
 #[cfg(test)]
@@ -327,9 +335,6 @@ mod tests {
         assert!((d.nu.halfwidth - 1.25 * 0.05).abs() < 1e-12, "{:?}", d.nu);
         // E does not change with the mesh: no order, no share.
         assert_eq!((d.e.observed, d.e.halfwidth), (None, 0.0));
-        assert!(
-            (d.nu.total(0.0016) - (0.0016f64.powi(2) + 0.0625f64.powi(2)).sqrt()).abs() < 1e-15
-        );
         // Order 6 is extrapolated at 3: from the finest fit by its last change times
         // h₃³ / (h₂³ − h₃³) = 0.125 / (8/27 − 0.125) = 27/37.
         let steep = h.map(|h: f64| 0.48 - 0.05 * h.powi(6));
