@@ -76,6 +76,7 @@ fn choices(model: &str, name: &str) -> (&'static [&'static str], Option<&'static
         ("abdomen", "press_mode") => (&["force", "pressure"], "iap"),
         ("abdomen", "press_muscles") => (&["diaphragm", "diaphragm_and_wall"], "glutes"),
         ("abdomen", "membrane_law") => (&["hencky", "neo-hookean"], "ogden"),
+        ("abdomen", "press_load") => (&["contraction", "pressure"], "push"),
         _ => panic!("string parameter `{name}` of {model} has no choices listed in this test"),
     };
     (valid, Some(wrong))

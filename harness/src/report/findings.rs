@@ -102,8 +102,10 @@ fn walk_section(report: &mut Report) {
         .map(|(n, v)| format!("{n} = {v}"))
         .collect();
     report.text(&format!(
-        "Seed 003's form: {} (the press a dead load, the default sinusoid). Each row makes \
-         one more change towards the default. Peak mean floor stress over the first press \
+        "Seed 003's form: {} (the press the seed's force on the diaphragm, a uniform \
+         pressure over it as a dead load, with the default time course; the floor's modulus \
+         that of this project's first rendering of the seed, whose own tissue values are not \
+         legible in its text). Each row makes one more change towards the default. Peak mean floor stress over the first press \
          (kPa); the findings: a narrower pelvis lowers it (narrow < normal), a stiffer free \
          wall lowers it (wall_E = {STIFF_WALL_E} MPa, ten times the default, < the default).",
         form.join(", ")

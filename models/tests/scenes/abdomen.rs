@@ -463,6 +463,20 @@ fn bad_configurations_are_clear_errors() {
         .unwrap_err()
         .to_string()
         .contains("glued"));
+    assert!(s
+        .set_str("press_load", "push")
+        .unwrap_err()
+        .to_string()
+        .contains("press_load"));
+    // Seed 003's pressure over a passive diaphragm at finite strain (the default) is refused
+    // by name; at small strain it runs.
+    s.set_str("press_load", "pressure").unwrap();
+    let e = s.initialize(0.0).unwrap_err().to_string();
+    assert!(e.contains("press_load") && e.contains("linear"), "{e}");
+    let mut s = Abdomen::new();
+    s.set_str("press_load", "pressure").unwrap();
+    s.set_str("kinematics", "linear").unwrap();
+    s.initialize(0.0).unwrap();
 }
 
 /// Time-dependent loads follow the caller's time: started at 2 s, one period of the default

@@ -11,10 +11,10 @@ use super::config::PelvisConfig;
 use super::discretization::{Choice, Discretization, FieldView, Recovery};
 use super::mesher;
 use super::outputs::{Field, OutputPlan};
-use super::parameters::{damping_properties, properties, subdivisions, supports};
+use super::parameters::{self, damping_properties, properties, subdivisions, supports, PressLoad};
 use super::variables::{
     CONFIGURATION, COSTAL_MARGIN, ELEMENT, FORMULATION, GRADING, INTEGRATOR, KINEMATICS,
-    TARGET_TRIANGLES, WALL_SUPPORT,
+    PRESS_LOAD, TARGET_TRIANGLES, WALL_SUPPORT,
 };
 use crate::assembly::plane::PlaneProperties;
 use crate::assembly::quadratic_plane::{PlaneBody, SharedTension};
@@ -98,7 +98,8 @@ impl FullOrder {
         if let Some(body) = &body {
             structure = structure.with_internal_forces(body.clone());
         }
-        let (unit_load, theta) = press_pattern(&disc, &props, structure.dirichlet())?;
+        let load = parameters::press_load(values.string(PRESS_LOAD)?)?;
+        let (unit_load, theta) = press_pattern(&disc, &props, load, structure.dirichlet())?;
         Ok(Self {
             recovery: disc.recovery(&props),
             plan: OutputPlan::new(disc.mesh())?,
@@ -233,16 +234,22 @@ pub(super) struct Detached {
 }
 
 /// The pressing force's load pattern: the forces a contracting diaphragm exerts at rest
-/// ([`Discretization::contraction`]) per unit of their resultant on the free dofs — so that
-/// a pressing force F is F times this pattern, a resultant F into the cavity — and that
-/// resultant per unit tension, Θ₀ (the turning of the diaphragm between its supports:
-/// sin θ₁ + sin θ₂ for a dome leaving its supports at θ₁, θ₂ from the horizontal).
+/// ([`Discretization::contraction`]), or seed 003's uniform pressure over it
+/// ([`Discretization::diaphragm_pressure`]), per unit of their resultant on the free dofs —
+/// so that a pressing force F is F times this pattern, a resultant F into the cavity — and
+/// that resultant per unit tension, Θ₀ (the turning of the diaphragm between its supports:
+/// sin θ₁ + sin θ₂ for a dome leaving its supports at θ₁, θ₂ from the horizontal; per unit
+/// pressure, its chord, for the pressure).
 fn press_pattern(
     disc: &Discretization,
     props: &PlaneProperties,
+    load: PressLoad,
     bc: &Dirichlet,
 ) -> Result<(Vec<f64>, f64), SceneError> {
-    let f = disc.contraction(props)?;
+    let f = match load {
+        PressLoad::Contraction => disc.contraction(props)?,
+        PressLoad::Pressure => disc.diaphragm_pressure(props),
+    };
     let mut reduced = vec![0.0; bc.n_free()];
     bc.reduce(&f, &mut reduced);
     let resultant = bc
@@ -263,4 +270,71 @@ fn press_pattern(
     }
     reduced.iter_mut().for_each(|x| *x /= theta);
     Ok((reduced, theta))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::variables::{table, ELEMENT, KINEMATICS, PRESS_LOAD, TARGET_TRIANGLES};
+    use super::*;
+
+    /// Seed 003's press: a uniform pressure's resultant on any curve is the pressure times
+    /// the chord turned by a right angle, so a unit pressure over the diaphragm sums (on all
+    /// dofs) to its chord's length, normal to the chord and into the cavity — for the
+    /// 2-node and the 3-node (curved) lines alike. The contraction's pattern is another load
+    /// (it pulls the diaphragm's ends).
+    #[test]
+    fn seed_003_s_pressure_sums_to_the_diaphragm_s_chord_turned_into_the_cavity() {
+        for element in ["tri3", "tri6"] {
+            let mut values = Values::new(table());
+            values.set_real(TARGET_TRIANGLES, &[150.0]).unwrap();
+            values.set_string(ELEMENT, element).unwrap();
+            values.set_string(KINEMATICS, "linear").unwrap();
+            values.set_string(PRESS_LOAD, "pressure").unwrap();
+            let full = FullOrder::build(&values).unwrap_or_else(|e| panic!("{e}"));
+            let f = full.disc.diaphragm_pressure(&full.props);
+            let resultant = [0, 1].map(|d| f.iter().skip(d).step_by(2).sum::<f64>());
+            let mesh = full.disc.mesh();
+            let ends: Vec<usize> = {
+                let diaphragm = mesh.node_sets().get("diaphragm").unwrap();
+                let mut count = std::collections::BTreeMap::new();
+                for (line, &r) in mesh.lines().iter().zip(mesh.line_regions()) {
+                    if full.props.trusses[usize::from(r)].contracts {
+                        line.iter().for_each(|n| *count.entry(*n).or_insert(0) += 1);
+                    }
+                }
+                let ends: Vec<usize> = count
+                    .into_iter()
+                    .filter(|&(_, c)| c == 1)
+                    .map(|(n, _)| n)
+                    .collect();
+                assert!(ends.iter().all(|n| diaphragm.contains(n)));
+                ends
+            };
+            assert_eq!(ends.len(), 2, "{element}");
+            let [a, b] = [ends[0], ends[1]].map(|n| mesh.nodes()[n]);
+            let chord = [b[0] - a[0], b[1] - a[1]];
+            let length = chord[0].hypot(chord[1]);
+            let size = resultant[0].hypot(resultant[1]);
+            assert!(
+                (size - length).abs() < 1e-9 * length,
+                "{element}: {size} vs {length}"
+            );
+            let along = resultant[0] * chord[0] + resultant[1] * chord[1];
+            assert!(along.abs() < 1e-9 * length * length, "{element}: {along}");
+            // Into the cavity: towards the centroid of its nodes from the chord's middle.
+            let n = mesh.nodes().len() as f64;
+            let centroid = [0, 1].map(|d| mesh.nodes().iter().map(|p| p[d]).sum::<f64>() / n);
+            let inward = [0, 1].map(|d| centroid[d] - 0.5 * (a[d] + b[d]));
+            assert!(
+                resultant[0] * inward[0] + resultant[1] * inward[1] > 0.0,
+                "{element}"
+            );
+            let contraction = full.disc.contraction(&full.props).unwrap();
+            let gap = contraction
+                .iter()
+                .zip(&f)
+                .fold(0.0, |m: f64, (c, p)| m.max((c - p).abs()));
+            assert!(gap > 0.1 * f.iter().fold(0.0, |m: f64, p| m.max(p.abs())));
+        }
+    }
 }

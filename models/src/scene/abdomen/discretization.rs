@@ -20,6 +20,7 @@ use std::collections::HashSet;
 use std::sync::Arc;
 
 use super::mesher::Meshed;
+use crate::assembly::loads;
 use crate::assembly::plane::{self, PlaneProperties, Truss};
 use crate::assembly::quadratic_plane::{self, scatter, PlaneBody, SharedTension};
 use crate::assembly::Assembler;
@@ -263,6 +264,42 @@ impl Discretization {
         }
         f.iter_mut().for_each(|x| *x = -*x);
         Ok(f)
+    }
+
+    /// The nodal forces (all dofs) of a unit pressure (1 MPa) over the contracting line
+    /// elements, normal to them at rest and into the cavity, as consistent nodal loads
+    /// ([`crate::assembly::loads::edge_pressure`], its quadratic twin on 3-node lines):
+    /// seed 003's press (§5.4.4, "a sinusoidal force acts on the diaphragm"), a dead load
+    /// without the contraction's pull at the ends. Each line's cavity side is that of the
+    /// triangle on it.
+    pub fn diaphragm_pressure(&self, props: &PlaneProperties) -> Vec<f64> {
+        let mesh = self.mesh();
+        let mut f = vec![0.0; self.n_dofs()];
+        let lines = mesh.line_regions().iter().enumerate();
+        let pressed: Vec<usize> = lines
+            .filter(|&(_, &r)| props.trusses[usize::from(r)].contracts)
+            .map(|(i, _)| i)
+            .collect();
+        for i in pressed {
+            let [a, b] = mesh.lines()[i];
+            // +1 where the cavity lies to the left of a → b (the loads' convention).
+            let side = mesh
+                .triangles()
+                .iter()
+                .find(|t| t.contains(&a) && t.contains(&b))
+                .map_or(1.0, |t| {
+                    let c = t.iter().find(|&&n| n != a && n != b).copied().unwrap_or(a);
+                    let [pa, pb, pc] = [a, b, c].map(|n| mesh.nodes()[n]);
+                    let cross =
+                        (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]);
+                    cross.signum()
+                });
+            match &self.quadratic {
+                Some(q) => loads::quadratic_edge_pressure(q.nodes(), q.lines()[i], side, &mut f),
+                None => loads::edge_pressure(mesh.nodes(), [a, b], side, &mut f),
+            }
+        }
+        f
     }
 
     /// The stress recovery for `props`.

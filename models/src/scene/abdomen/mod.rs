@@ -37,8 +37,8 @@ use simulation::Simulation;
 use variables::{
     table, CAVITY_PRESSURE, COSTAL_MARGIN, ELEMENT, ERROR_INDICATOR, FIRST_OUTPUT, FORMULATION,
     INTEGRATOR, KINEMATICS, MAX_STEP, MEMBRANE_LAW, MEMORY_LIMIT, MODEL_ORDER, PRESS_AMPLITUDE,
-    PRESS_FORCE, PRESS_FREQUENCY, PRESS_MODE, PRESS_MUSCLES, TARGET_PRESSURE, TISSUE_BASE,
-    WALL_SUPPORT,
+    PRESS_FORCE, PRESS_FREQUENCY, PRESS_LOAD, PRESS_MODE, PRESS_MUSCLES, TARGET_PRESSURE,
+    TISSUE_BASE, WALL_SUPPORT,
 };
 
 use super::{
@@ -518,6 +518,9 @@ impl Scene for Abdomen {
         }
         if vr == MEMBRANE_LAW {
             parameters::membrane_law(value)?;
+        }
+        if vr == PRESS_LOAD {
+            parameters::press_load(value)?;
         }
         if vr == ELEMENT {
             discretization::element(value)?;

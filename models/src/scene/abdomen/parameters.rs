@@ -5,9 +5,9 @@
 use super::discretization::{Choice, Discretization, Element};
 use super::variables::{
     tissue_vr, DIAPHRAGM_TRANSVERSE_CURVATURE, FLOOR_TRANSVERSE_CURVATURE, KINEMATICS,
-    MEMBRANE_LAW, MODEL_ORDER, MODES, PRESS_AMPLITUDE, PRESS_FORCE, PRESS_FREQUENCY, PRESS_MODE,
-    PRESS_MUSCLES, SUBDIVISIONS, TARGET_PRESSURE, TISSUES, TRAINING_FREQUENCY, TRAINING_PRESS,
-    WALL_SUPPORT, WALL_TRANSVERSE_CURVATURE,
+    MEMBRANE_LAW, MODEL_ORDER, MODES, PRESS_AMPLITUDE, PRESS_FORCE, PRESS_FREQUENCY, PRESS_LOAD,
+    PRESS_MODE, PRESS_MUSCLES, SUBDIVISIONS, TARGET_PRESSURE, TISSUES, TRAINING_FREQUENCY,
+    TRAINING_PRESS, WALL_SUPPORT, WALL_TRANSVERSE_CURVATURE,
 };
 use crate::assembly::plane::{Continuum, PlaneProperties, Truss};
 use crate::element::membrane::Law;
@@ -206,6 +206,24 @@ pub fn wall_contracts(value: &str) -> Result<bool, SceneError> {
     }
 }
 
+/// How the press loads the diaphragm (`press_load`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PressLoad {
+    /// Its active tension: Laplace's law with the pull at its ends.
+    Contraction,
+    /// Seed 003's: a uniform pressure over it, a dead load.
+    Pressure,
+}
+
+/// Parses the `press_load` parameter.
+pub fn press_load(value: &str) -> Result<PressLoad, SceneError> {
+    match value {
+        "contraction" => Ok(PressLoad::Contraction),
+        "pressure" => Ok(PressLoad::Pressure),
+        other => Err(ModelError::unknown("press_load", other, "contraction or pressure").into()),
+    }
+}
+
 /// Parses the `membrane_law` parameter: the sheets' law in tension.
 pub fn membrane_law(value: &str) -> Result<Law, SceneError> {
     match value {
@@ -244,6 +262,14 @@ pub fn press(
         return Err(SceneError::Config(
             "press_muscles = \"diaphragm_and_wall\" needs abdominal_wall = \"free\": a held \
              wall's contraction moves nothing"
+                .into(),
+        ));
+    }
+    let load = press_load(values.string(PRESS_LOAD)?)?;
+    if load == PressLoad::Pressure && choice.finite {
+        return Err(SceneError::Config(
+            "press_load = \"pressure\" needs kinematics = \"linear\": a passive diaphragm \
+             carrying a pressure at finite strain is an arch in compression and wrinkles"
                 .into(),
         ));
     }

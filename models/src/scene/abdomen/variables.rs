@@ -46,6 +46,7 @@ pub const DIAPHRAGM_TRANSVERSE_CURVATURE: u32 = 53;
 pub const WALL_TRANSVERSE_CURVATURE: u32 = 54;
 pub const FLOOR_TRANSVERSE_CURVATURE: u32 = 55;
 pub const MEMBRANE_LAW: u32 = 56;
+pub const PRESS_LOAD: u32 = 57;
 
 /// Value reference of field `field` (0 E, 1 ν or area, 2 density, 3 damping) of a tissue.
 pub fn tissue_vr(tissue: usize, field: u32) -> u32 {
@@ -231,7 +232,8 @@ pub fn table() -> Vec<Variable> {
         Variable::parameter("wall_transverse_curvature", Fixed, "1/mm", 0.0, (0.0, 0.01), "curvature of the abdominal wall across the slice, round the waist (1/radius, up to a radius of 100 mm; needs element = tri6): its hoop tension resists bulging, and it presses with its active tension while it contracts (press_muscles = diaphragm_and_wall); acts with abdominal_wall = free"),
         Variable::parameter("floor_transverse_curvature", Fixed, "1/mm", 0.0, (0.0, 0.04), "curvature of the pelvic floor across the slice, the levator bowl from side to side (1/radius, up to a radius of 25 mm; needs element = tri6): its transverse tension holds the contents as a bowl does"),
         Variable::string("membrane_law", "hencky", "the sheets' (diaphragm, wall, floor) law in tension at finite kinematics, slack in compression either way: `hencky` (P = E ln λ / λ: the shipped figures'; its stress peaks at E/e at λ = e, where a pressed floor necks: statically from 9.1 kPa on the normal pelvis in the clinical settings on the default mesh) or `neo-hookean` (the incompressible neo-Hookean sheet in plane strain, P = (E/4)(λ − λ⁻³), the Mooney–Rivlin law of pelvic-floor models reduced to plane strain: it rises without bound, and the pressure press reaches 10 kPa on every shipped configuration)"),
+        Variable::string("press_load", "contraction", "how the press loads the diaphragm: `contraction` (its active tension: at small strain the dead load of a unit tension, Laplace's law with the pull at its ends; at finite strain a tension that follows it) or `pressure` (seed 003's press, §5.4.4: a uniform pressure over the diaphragm, normal to it at rest, a dead load of resultant F; needs kinematics = linear — a passive diaphragm pressed at finite strain wrinkles)"),
     ]);
-    debug_assert_eq!(t.len(), MEMBRANE_LAW as usize + 1);
+    debug_assert_eq!(t.len(), PRESS_LOAD as usize + 1);
     t
 }
