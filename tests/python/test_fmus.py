@@ -254,22 +254,24 @@ def bearing_down(k):
 
 
 @pytest.mark.parametrize("configuration", ["normal", "narrow", "wide", "lordotic", "tilted"])
-def test_neo_hookean_sheets_hold_valsalva_and_bearing_down(configuration):
-    """Through the FMU (FMI 2.0) with membrane_law = neo-hookean, a ramp of target_pressure
-    to 8 kPa, held, then to 10 kPa, held, ends every step with cavity_pressure within 10⁻⁶
-    of the target, on each shipped configuration (Neurourol Urodyn 40 (2021) 783: medians
-    80.3 and 101 cmH₂O). Every call returns OK but the one step on which the floor passes
-    the membranes' stretch limit (1.5; from 6.75 to 8 kPa by configuration): that step
-    returns Warning and logs that message alone, as FMI 2.0 §2.1.3 has a successful call
-    with a non-critical problem do. The floor's largest stress rises with the pressure, by
-    more than a tenth from 8 to 10 kPa (measured +24 % normal, +28 % wide): Hencky's sheets
-    hold the targets too, dynamically, but their floor necks past its peak stress E/e and its
-    largest stress falls (measured 16.07 → 15.94 kPa on the normal pelvis: this test fails
-    with them)."""
+def test_valsalva_and_bearing_down_hold_inside_the_model_s_validity(configuration):
+    """Through the FMU (FMI 2.0), in the clinical settings with the neo-Hookean sheets and
+    the floor of the levator's stiffness under straining (floor_E = 0.105 MPa: 3 × 35 kPa,
+    the shear modulus by shear-wave elastography during a Valsalva manoeuvre, Gachon et al.,
+    Int Urogynecol J 30 (2019); the Valsalva and bear-down presets' setting), a ramp of
+    target_pressure to 8 kPa, held, then to 10 kPa, held (Neurourol Urodyn 40 (2021) 783:
+    medians 80.3 and 101 cmH₂O), ends every step with cavity_pressure within 10⁻⁶ of the
+    target on each shipped configuration, and every call returns OK with no warning logged: no
+    membrane passes its stretch limit (1.5). The floor's largest stress rises with the
+    pressure, by more than a tenth from 8 to 10 kPa (measured +26 % to +30 %). With the
+    floor's modulus at rest (0.05 MPa) the floor passes the limit from 6.75 to 8 kPa and
+    that step returns Warning (measured; the warning itself is tested in
+    models/tests/scenes/abdomen_pressure.rs)."""
     logged = []
     strings = CLINICAL_STRINGS + [("configuration", configuration),
                                   ("membrane_law", "neo-hookean")]
-    s, step, set_target, close = raw_stepping("fmi2", "abdomen", logged, strings, CLINICAL_REALS)
+    reals = CLINICAL_REALS + [("floor_E", 0.105)]
+    s, step, set_target, close = raw_stepping("fmi2", "abdomen", logged, strings, reals)
     vrs = {v.name: v.valueReference
            for v in read_model_description(fmu("abdomen", "fmi2")).modelVariables}
     statuses, gaps, ends, stresses = [], [], {}, {}
@@ -285,12 +287,11 @@ def test_neo_hookean_sheets_hold_valsalva_and_bearing_down(configuration):
                 stresses[target] = s.getReal([vrs["floor_stress_max"]])[0]
     finally:
         close()
-    assert sorted(set(statuses)) == [0, 1] and statuses.count(1) == 1, statuses
+    assert statuses == [0] * 38, statuses
+    assert [text for status, text in logged if status != 0] == [], logged
     assert max(gaps) <= 1e-6, gaps
     assert abs(ends[0.008] / 0.008 - 1) <= 0.01 and abs(ends[0.01] / 0.01 - 1) <= 0.01, ends
     assert stresses[0.01] > 1.1 * stresses[0.008], stresses
-    warnings = [text for status, text in logged if status != 0]
-    assert len(warnings) == 1 and b"stretched beyond 1.5" in warnings[0], logged
 
 
 def test_fmi3_exposes_profiles_as_arrays_and_fmi2_as_indexed_scalars():
