@@ -85,6 +85,8 @@ pub struct Abdomen {
     /// Warnings not yet taken, and whether the strain warning was given in this run.
     warnings: Vec<String>,
     warned_validity: bool,
+    /// Whether this run has warned of a target the relaxed muscles stayed above.
+    warned_relaxed: bool,
     /// The parameters already warned of in this run for having no effect.
     inert: Inert,
 }
@@ -110,6 +112,7 @@ impl Abdomen {
             found: pressure::AT_REST,
             warnings: Vec::new(),
             warned_validity: false,
+            warned_relaxed: false,
             inert: Inert::default(),
         }
     }
@@ -221,6 +224,7 @@ impl Abdomen {
         self.phase_origin = [0.0; 2];
         self.outputs = None;
         self.warned_validity = false;
+        self.warned_relaxed = false;
         self.check_validity();
         Ok(())
     }
@@ -561,6 +565,7 @@ impl Scene for Abdomen {
         self.outputs = None;
         self.values.freeze();
         self.warned_validity = false;
+        self.warned_relaxed = false;
         let inert = self.inert.check_all(&self.values, parameters::inert);
         self.warnings.extend(inert);
         self.check_locking();
@@ -622,7 +627,15 @@ impl Scene for Abdomen {
             false => (span / substeps, 0.0),
         };
         match target {
-            Some(p) => self.found = m.advance_at_pressure(dt, substeps as u64, p, self.found)?,
+            Some(p) => {
+                self.found = m.advance_at_pressure(dt, substeps as u64, p, self.found)?;
+                let reached = m.full.plan.pressure(&m.full.field(m.u_full()));
+                let unmet = pressure::relaxed_above(self.found.force, reached, p, t + h);
+                if let Some(w) = unmet.filter(|_| !self.warned_relaxed) {
+                    self.warned_relaxed = true;
+                    self.warnings.push(w);
+                }
+            }
             None => m.advance(dt, substeps as u64, |tau| press.at(tau + offset))?,
         }
         self.lag = lag;
@@ -647,6 +660,7 @@ impl Scene for Abdomen {
             stiffness_changed: self.stiffness_changed,
             warnings: self.warnings.clone(),
             warned_validity: self.warned_validity,
+            warned_relaxed: self.warned_relaxed,
             inert: self.inert.clone(),
             simulation: sim.map(|(m, applied)| state::SimulationState {
                 applied: applied.clone(),
@@ -691,6 +705,7 @@ impl Scene for Abdomen {
             found: s.found,
             warnings: s.warnings.clone(),
             warned_validity: s.warned_validity,
+            warned_relaxed: s.warned_relaxed,
             inert: s.inert.clone(),
         };
         Ok(())

@@ -18,6 +18,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::error::seconds;
 use crate::scene::SceneError;
 
 /// The relative tolerance on p̄: a step ends within it of the target (issue 53 asks
@@ -52,6 +53,23 @@ const MAX_TRIALS: usize = 40;
 /// dome has flattened to its chord and the contents' pressure has saturated; a target above
 /// the pressure there is refused as saturated instead of doubling the force on.
 pub const MAX_FORCE: f64 = 1e3;
+
+/// The warning at time `time` (s) for a step that ended with the contents' pressure `reached`
+/// above `target` (MPa) by more than [`PRESSURE_SCALE`] (0.1 kPa, about 1 cmH₂O, the order
+/// of a catheter's resolution) with the muscles relaxed (`force` 0): the target falls faster
+/// than the contents recoil, and muscles that push cannot pull the pressure down;
+/// `cavity_pressure` then reads above `target_pressure`.
+pub fn relaxed_above(force: f64, reached: f64, target: f64, time: f64) -> Option<String> {
+    (force == 0.0 && reached - target > PRESSURE_SCALE).then(|| {
+        format!(
+            "at t = {} s cavity_pressure is {reached:.6e} MPa, above target_pressure = \
+             {target:.6e} MPa with the muscles relaxed: the target falls faster than the \
+             contents recoil, and the muscles push, they do not pull (a slower release, or \
+             the pressure read from cavity_pressure, not assumed)",
+            seconds(time)
+        )
+    })
+}
 
 /// The force found for a step and the slope dp̄/dF seen there (MPa per N/mm), the next
 /// step's first guess, and the target the step met (MPa; the next communication step's

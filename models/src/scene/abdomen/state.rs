@@ -28,6 +28,10 @@ pub struct State {
     pub(super) stiffness_changed: bool,
     pub(super) warnings: Vec<String>,
     pub(super) warned_validity: bool,
+    /// Whether the run has warned of a target the relaxed muscles stayed above (absent in
+    /// states saved before it: not warned).
+    #[serde(default)]
+    pub(super) warned_relaxed: bool,
     /// The parameters already warned of in this run for having no effect.
     #[serde(default)]
     pub(super) inert: Inert,
