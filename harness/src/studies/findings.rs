@@ -116,26 +116,69 @@ pub fn peaks(settings: &[(String, Value)]) -> Result<[f64; 2]> {
 /// whose peak over the first press a linear model reaches as the seed's sinusoid does) —
 /// and the pelvic floor of 0.1 MPa this project's first rendering of the seed used (before
 /// issue 26; the seed took its muscles' values from Levinson et al. 1995, which its
-/// extracted text does not give legibly). A value that reads as a number is a real
-/// parameter's.
-pub const SEED_FORM: [(&str, &str); 6] = [
-    ("element", "tri3"),
-    ("kinematics", "linear"),
-    ("abdominal_wall", "free"),
-    ("costal_margin", "free"),
-    ("press_load", "pressure"),
-    ("floor_E", "0.1"),
+/// extracted text does not give legibly).
+pub const SEED_FORM: [(&str, Setting); 6] = [
+    ("element", Setting::Text("tri3")),
+    ("kinematics", Setting::Text("linear")),
+    ("abdominal_wall", Setting::Text("free")),
+    ("costal_margin", Setting::Text("free")),
+    ("press_load", Setting::Text("pressure")),
+    ("floor_E", Setting::Real(0.1)),
 ];
+
+/// A value of the walk's settings: a string parameter's choice or a real parameter's value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Setting {
+    /// A string parameter's choice.
+    Text(&'static str),
+    /// A real parameter's value.
+    Real(f64),
+}
+
+impl Setting {
+    /// The value to set.
+    pub fn value(self) -> Value {
+        match self {
+            Self::Text(s) => Value::Text(s.into()),
+            Self::Real(x) => Value::Real(x),
+        }
+    }
+}
+
+impl std::fmt::Display for Setting {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Text(s) => write!(f, "{s}"),
+            Self::Real(x) => write!(f, "{x}"),
+        }
+    }
+}
 
 /// The walk from [`SEED_FORM`] to the default, one change at a time (each keeps the
 /// earlier ones): the change's name and the setting it makes, the default's value.
-pub const WALK: [(&str, &str, &str); 6] = [
-    ("the press a contraction", "press_load", "contraction"),
-    ("the floor's modulus at rest", "floor_E", "0.05"),
-    ("6-node triangles", "element", "tri6"),
-    ("costal margin fixed", "costal_margin", "fixed"),
-    ("finite strain", "kinematics", "finite"),
-    ("abdominal wall braced", "abdominal_wall", "fixed"),
+pub const WALK: [(&str, &str, Setting); 6] = [
+    (
+        "the press a contraction",
+        "press_load",
+        Setting::Text("contraction"),
+    ),
+    (
+        "the floor's modulus at rest",
+        "floor_E",
+        Setting::Real(0.05),
+    ),
+    ("6-node triangles", "element", Setting::Text("tri6")),
+    (
+        "costal margin fixed",
+        "costal_margin",
+        Setting::Text("fixed"),
+    ),
+    ("finite strain", "kinematics", Setting::Text("finite")),
+    (
+        "abdominal wall braced",
+        "abdominal_wall",
+        Setting::Text("fixed"),
+    ),
 ];
 
 /// The wall's Young's modulus ten times the default's (MPa): the stiffer free wall of
@@ -172,11 +215,7 @@ pub fn stage_settings(k: usize) -> Vec<(String, Value)> {
         .iter()
         .map(|&(name, seed)| {
             let changed = WALK[..k].iter().rev().find(|w| w.1 == name);
-            let value = changed.map_or(seed, |w| w.2);
-            let value = value
-                .parse()
-                .map_or_else(|_| Value::Text(value.into()), Value::Real);
-            (name.to_string(), value)
+            (name.to_string(), changed.map_or(seed, |w| w.2).value())
         })
         .collect()
 }

@@ -477,6 +477,8 @@ fn bad_configurations_are_clear_errors() {
     s.set_str("press_load", "pressure").unwrap();
     s.set_str("kinematics", "linear").unwrap();
     s.initialize(0.0).unwrap();
+    s.do_step(0.0, 0.01).unwrap();
+    assert!(s.get("press_total").unwrap() > 0.0);
 }
 
 /// Time-dependent loads follow the caller's time: started at 2 s, one period of the default

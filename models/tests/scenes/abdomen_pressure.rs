@@ -297,7 +297,7 @@ fn a_target_falling_faster_than_the_contents_recoil_warns_once() {
         s.get("cavity_pressure").unwrap(),
         s.get("press_total").unwrap(),
     );
-    assert!(p > 1e-6 && f == 0.0, "{p} MPa at {f} N/mm");
+    assert!(p > 1e-4 && f == 0.0, "{p} MPa at {f} N/mm");
     let warnings = s.take_warnings();
     assert!(
         warnings.len() == 1
@@ -306,6 +306,11 @@ fn a_target_falling_faster_than_the_contents_recoil_warns_once() {
         "{warnings:?}"
     );
     s.do_step(0.01, 0.01).unwrap();
+    let (p, f) = (
+        s.get("cavity_pressure").unwrap(),
+        s.get("press_total").unwrap(),
+    );
+    assert!(p > 1e-4 && f == 0.0, "still above: {p} MPa at {f} N/mm");
     assert!(s.take_warnings().is_empty());
 
     let mut s = Abdomen::initialized(&PRESSURE, &start).unwrap();
@@ -315,7 +320,7 @@ fn a_target_falling_faster_than_the_contents_recoil_warns_once() {
         s.set("target_pressure", target).unwrap();
         s.do_step(t, 0.05).unwrap();
         let p = s.get("cavity_pressure").unwrap();
-        let tolerance = if i < 19 { 1e-6 * 0.002 } else { 1e-4 };
+        let tolerance = if i < 19 { 1e-6 * 0.002 } else { 1e-5 };
         assert!((p - target).abs() <= tolerance, "t = {t}: {p} vs {target}");
     }
     assert!(s.take_warnings().is_empty());

@@ -19,7 +19,7 @@
 use std::collections::HashSet;
 use std::sync::Arc;
 
-use super::mesher::Meshed;
+use super::mesher::{Meshed, DIAPHRAGM_REGION};
 use crate::assembly::loads;
 use crate::assembly::plane::{self, PlaneProperties, Truss};
 use crate::assembly::quadratic_plane::{self, scatter, PlaneBody, SharedTension};
@@ -266,40 +266,38 @@ impl Discretization {
         Ok(f)
     }
 
-    /// The nodal forces (all dofs) of a unit pressure (1 MPa) over the contracting line
+    /// The nodal forces (all dofs) of a unit pressure (1 MPa) over the diaphragm's line
     /// elements, normal to them at rest and into the cavity, as consistent nodal loads
     /// ([`crate::assembly::loads::edge_pressure`], its quadratic twin on 3-node lines):
     /// seed 003's press (§5.4.4, "a sinusoidal force acts on the diaphragm"), a dead load
     /// without the contraction's pull at the ends. Each line's cavity side is that of the
-    /// triangle on it.
-    pub fn diaphragm_pressure(&self, props: &PlaneProperties) -> Vec<f64> {
+    /// triangle on it (the mesher keeps the boundary's edges as triangle edges).
+    pub fn diaphragm_pressure(&self) -> Result<Vec<f64>, SceneError> {
         let mesh = self.mesh();
         let mut f = vec![0.0; self.n_dofs()];
-        let lines = mesh.line_regions().iter().enumerate();
-        let pressed: Vec<usize> = lines
-            .filter(|&(_, &r)| props.trusses[usize::from(r)].contracts)
-            .map(|(i, _)| i)
-            .collect();
+        let diaphragm = mesh.line_regions().iter().enumerate();
+        let pressed = diaphragm
+            .filter(|&(_, &r)| r == DIAPHRAGM_REGION)
+            .map(|(i, _)| i);
         for i in pressed {
             let [a, b] = mesh.lines()[i];
+            let third = mesh.triangles().iter().find_map(|t| {
+                let c = t.iter().find(|&&n| n != a && n != b)?;
+                (t.contains(&a) && t.contains(&b)).then_some(*c)
+            });
+            let Some(c) = third else {
+                return Err(SceneError::Config(format!(
+                    "the diaphragm's line element {i} borders no triangle of the cavity"
+                )));
+            };
             // +1 where the cavity lies to the left of a → b (the loads' convention).
-            let side = mesh
-                .triangles()
-                .iter()
-                .find(|t| t.contains(&a) && t.contains(&b))
-                .map_or(1.0, |t| {
-                    let c = t.iter().find(|&&n| n != a && n != b).copied().unwrap_or(a);
-                    let [pa, pb, pc] = [a, b, c].map(|n| mesh.nodes()[n]);
-                    let cross =
-                        (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]);
-                    cross.signum()
-                });
+            let side = tri3::signed_area(&[a, b, c].map(|n| mesh.nodes()[n])).signum();
             match &self.quadratic {
                 Some(q) => loads::quadratic_edge_pressure(q.nodes(), q.lines()[i], side, &mut f),
                 None => loads::edge_pressure(mesh.nodes(), [a, b], side, &mut f),
             }
         }
-        f
+        Ok(f)
     }
 
     /// The stress recovery for `props`.

@@ -17,6 +17,8 @@ use crate::scene::SceneError;
 pub const LINE_REGION: [Option<u16>; 5] = [None, Some(2), None, Some(1), Some(0)];
 /// Names of the line-element regions 0, 1, 2.
 pub const LINE_TISSUES: [&str; 3] = ["diaphragm", "abdominal_wall", "pelvic_floor"];
+/// The diaphragm's line-element region.
+pub const DIAPHRAGM_REGION: u16 = 0;
 
 /// Minimum angle the refinement asks for (degrees).
 pub const ANGLE_LIMIT_DEG: f64 = 25.0;

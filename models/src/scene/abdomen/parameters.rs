@@ -235,8 +235,9 @@ pub fn membrane_law(value: &str) -> Result<Law, SceneError> {
 
 /// The press's settings checked together: `press_mode` is known and, for `pressure`, the
 /// order full and the integrator implicit (an explicit step's end state does not depend on the load there);
-/// `press_muscles` is known and a contracting wall free; a transverse curvature on the
-/// 6-node element (the seed's 2-node lines have none).
+/// `press_muscles` is known and a contracting wall free; `press_load` known and seed 003's
+/// pressure at small strain; a transverse curvature on the 6-node element (the seed's
+/// 2-node lines have none).
 pub fn press(
     values: &Values,
     choice: Choice,

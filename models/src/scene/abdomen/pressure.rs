@@ -13,8 +13,8 @@
 //! bisection once the target is bracketed. Linear kinematics make p̄ affine in F (two
 //! trials); at finite strain the secant converges superlinearly (3–4 trials a step). A
 //! target the relaxed muscles already exceed (p̄ at F = 0 above it, as while the contents
-//! rebound after a fast release) leaves them relaxed, F = 0: a muscle pulls, it does not
-//! push.
+//! rebound after a fast release) leaves them relaxed, F = 0: the muscles can raise the
+//! contents' pressure, not lower it.
 
 use serde::{Deserialize, Serialize};
 
@@ -64,8 +64,8 @@ pub fn relaxed_above(force: f64, reached: f64, target: f64, time: f64) -> Option
         format!(
             "at t = {} s cavity_pressure is {reached:.6e} MPa, above target_pressure = \
              {target:.6e} MPa with the muscles relaxed: the target falls faster than the \
-             contents recoil, and the muscles push, they do not pull (a slower release, or \
-             the pressure read from cavity_pressure, not assumed)",
+             contents recoil, and the muscles can raise the pressure, not lower it (read \
+             cavity_pressure rather than assume the target)",
             seconds(time)
         )
     })
