@@ -72,6 +72,18 @@ pub struct MeshFit {
 }
 
 impl MeshFit {
+    /// The fit `fit` on `cells`, made in `seconds`.
+    fn of(fit: &Fit, cells: [u32; 3], seconds: f64) -> Self {
+        Self {
+            cells,
+            e: fit.e,
+            nu: fit.nu,
+            runs: fit.evaluations,
+            seconds,
+            at_bound: fit.at_bound,
+        }
+    }
+
     /// The mesh size relative to `base`'s: (Π base / Π cells)^(1/3).
     fn size(&self, base: [u32; 3]) -> f64 {
         let volume = |c: [u32; 3]| c.iter().map(|&n| f64::from(n)).product::<f64>();
@@ -213,19 +225,6 @@ pub fn write(
             .collect(),
     };
     crate::atomic::write_atomic(path, toml::to_string(&stored)?.as_bytes())
-}
-
-impl MeshFit {
-    fn of(fit: &Fit, cells: [u32; 3], seconds: f64) -> Self {
-        Self {
-            cells,
-            e: fit.e,
-            nu: fit.nu,
-            runs: fit.evaluations,
-            seconds,
-            at_bound: fit.at_bound,
-        }
-    }
 }
 
 /// The refits as [`STORED`] holds them.

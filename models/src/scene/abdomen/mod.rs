@@ -628,8 +628,9 @@ impl Scene for Abdomen {
         };
         match target {
             Some(p) => {
-                self.found = m.advance_at_pressure(dt, substeps as u64, p, self.found)?;
-                let reached = m.full.plan.pressure(&m.full.field(m.u_full()));
+                let reached;
+                (self.found, reached) =
+                    m.advance_at_pressure(dt, substeps as u64, p, self.found)?;
                 let unmet = pressure::relaxed_above(self.found.force, reached, p, t + h);
                 if let Some(w) = unmet.filter(|_| !self.warned_relaxed) {
                     self.warned_relaxed = true;

@@ -198,14 +198,15 @@ impl Simulation {
     /// mean pressure at its end the target (MPa), which runs linearly from the one `last`
     /// met to `target` at the last step: the step taken again from where it started with
     /// each trial force of [`find_force`], from the last step's force and slope. Returns
-    /// the last step's.
+    /// the last step's, and the contents' mean pressure its last trial (the one that stands)
+    /// ended with.
     pub fn advance_at_pressure(
         &mut self,
         dt: f64,
         steps: u64,
         target: f64,
         mut last: Found,
-    ) -> Result<Found, SceneError> {
+    ) -> Result<(Found, f64), SceneError> {
         let from = last.target;
         let dt = self.prepared(dt)?;
         // Trials overwrite the expanded field; it is current again only after the last.
@@ -220,6 +221,7 @@ impl Simulation {
             ..
         } = self;
         let (structure, unit) = stepped(reduced, full);
+        let mut reached = f64::NAN;
         for j in 1..=steps {
             let share = j as f64 / steps as f64;
             let goal = if j == steps {
@@ -249,12 +251,13 @@ impl Simulation {
                     Err(e) => return Err(e.into()),
                 }
                 expand_into(full, reduced, &integrator.state().u, u_free, u_full);
-                Ok(Some(full.plan.pressure(&full.field(u_full))))
+                reached = full.plan.pressure(&full.field(u_full));
+                Ok(Some(reached))
             })?;
         }
         // The last trial stands, and its field is expanded.
         *expanded = true;
-        Ok(last)
+        Ok((last, reached))
     }
 
     /// Prepares the integrator for steps of `dt` and returns the step it takes: a `dt`
