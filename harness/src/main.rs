@@ -101,6 +101,12 @@ enum Command {
     CutSpeedError {
         #[arg(long, default_value = "report/cut_speed_error")]
         out: PathBuf,
+        /// Where the incision ends (x, mm; 100: the seed's full cut)
+        #[arg(long, default_value_t = harness::studies::cut_speed_error::FULL_CUT)]
+        front: f64,
+        /// The reference's meshes: factors on its cells (one, three or four, increasing)
+        #[arg(long, value_delimiter = ',', default_values_t = [0.5, 1.0, 1.5, 2.0])]
+        reference_refine: Vec<f64>,
     },
     /// The blade crossing the pulled cut block in 1 mm steps on 1× and 2× cells: reaction,
     /// opening and lift against the blade, their difference, CSV and plot
@@ -264,12 +270,16 @@ fn run(cli: Cli) -> Result<Option<PathBuf>> {
             speed_error::section,
             Depth::Full,
         )?,
-        Command::CutSpeedError { out } => report::write(
-            &out,
-            "Speed versus error, cut block",
-            cut_speed_error::section,
-            Depth::Full,
-        )?,
+        Command::CutSpeedError {
+            out,
+            front,
+            reference_refine,
+        } => {
+            let study = harness::studies::cut_speed_error::Study::at(front, &reference_refine)?;
+            let mut report = report::Report::create(&out, "Speed versus error, cut block")?;
+            cut_speed_error::study_section(&mut report, &study, Depth::Full)?;
+            report.finish()?
+        }
         Command::BladePath { out } => {
             report::write(&out, "Blade path", blade_path::section, Depth::Full)?
         }

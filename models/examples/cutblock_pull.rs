@@ -6,23 +6,37 @@
 //!
 //! `cargo run --release -p models --example cutblock_pull -- [MATERIAL] [ELEMENT] [REFINE]
 //! [MAX_INCREMENT]` (defaults: neo-hookean tet10 1 and the scene's `max_increment`; REFINE
-//! multiplies the cells along each axis).
+//! multiplies the cells along each axis), or `-- accurate [REFINE] [MAX_INCREMENT]` for the
+//! accurate setting ([`ACCURATE`]: its cells × REFINE).
 
 use std::time::Instant;
 
-use models::scene::cutblock::CutBlock;
+use models::assembly::tetrahedra::Tetrahedron;
+use models::element::Law;
+use models::scene::cutblock::{CutBlock, Setting, ACCURATE};
 use models::scene::Scene;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().collect();
-    let material = args.get(1).map_or("neo-hookean", String::as_str);
-    let element = args.get(2).map_or("tet10", String::as_str);
-    let refine: f64 = args
-        .get(3)
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let (setting, rest) = match args.first().map(String::as_str) {
+        Some("accurate") => (ACCURATE, args.get(1..).unwrap_or_default()),
+        material => {
+            let element = args.get(1).map_or("tet10", String::as_str);
+            let setting = Setting {
+                law: Law::parse(material.unwrap_or("neo-hookean"))?,
+                element: Tetrahedron::parse(element)?,
+                cells: [6.0, 16.0, 14.0],
+                grading: 1.0,
+            };
+            (setting, args.get(2..).unwrap_or_default())
+        }
+    };
+    let refine: f64 = rest
+        .first()
         .map_or(Ok(1.0), |v| v.parse())
         .map_err(|e| format!("REFINE must be a number: {e}"))?;
-    let max_increment: Option<f64> = args
-        .get(4)
+    let max_increment: Option<f64> = rest
+        .get(1)
         .map(|v| v.parse())
         .transpose()
         .map_err(|e| format!("MAX_INCREMENT must be a number: {e}"))?;
@@ -30,13 +44,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Some(m) = max_increment {
         s.set("max_increment", m)?;
     }
-    for (name, value) in [("material", material), ("element", element)] {
-        let vr = s.lookup(name)?;
-        s.set_string(vr, value)?;
-    }
-    for (name, cells) in [("cells_x", 6.0), ("cells_y", 16.0), ("cells_z", 14.0)] {
-        s.set(name, cells * refine)?;
-    }
+    let cells = setting.cells.map(|c| c * refine);
+    Setting { cells, ..setting }.apply(&mut s)?;
     let start = Instant::now();
     s.initialize(0.0)?;
     s.set("scalpel_x", 100.0)?;
@@ -49,7 +58,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let pull = start.elapsed();
     let (w, timing) = (s.work(), s.timing());
     let dofs = s.field().map_or(0, |(solid, _)| solid.n_dofs());
-    println!("{material} {element}, cells ×{refine}, {dofs} dofs: set-up and cut {setup:.2?}, pull 0 → 10 mm {pull:.2?}");
+    let [x, y, z] = cells;
+    println!(
+        "{} {}, {x} × {y} × {z} cubes β = {}, {dofs} dofs:",
+        setting.law.name(),
+        setting.element.name(),
+        setting.grading
+    );
+    println!("set-up and cut {setup:.2?}, pull 0 → 10 mm {pull:.2?}");
     println!("reaction at 10 mm: {:.4} N", s.get("reaction_force")?);
     let increments = w.increments - before.increments;
     let iterations = w.iterations - before.iterations;

@@ -9,8 +9,8 @@ use models::scene::cutblock::CutBlock;
 use super::plot::{self, Axis, Chart, Curve, Mark};
 use super::{Depth, Report};
 use crate::studies::cut_speed_error::{
-    clamped_edge_order, cubes, errors, measure, write_csv, write_reference, Answer, BlockReference,
-    BlockRun, Study, CELLS, MIN_ORDER, REACTION_ORDER, REFERENCE_CELLS,
+    accurate, clamped_edge_order, cubes, errors, measure, write_csv, write_reference, Answer,
+    BlockReference, BlockRun, Study, CELLS, FULL_CUT, MIN_ORDER, REACTION_ORDER, REFERENCE_CELLS,
 };
 use crate::studies::speed_error::pareto;
 
@@ -20,11 +20,17 @@ pub fn section(report: &mut Report, depth: Depth) -> Result<()> {
         Depth::Quick => Study::quick(),
         Depth::Full => Study::default(),
     };
+    study_section(report, &study, depth)
+}
+
+/// Adds the section for `study` to `report` (at [`Depth::Full`] with the reference's
+/// meshes written as `reference.toml`).
+pub fn study_section(report: &mut Report, study: &Study, depth: Depth) -> Result<()> {
     let bar = ProgressBar::new((study.models.len() + study.reference.len()) as u64).with_style(
         ProgressStyle::with_template("{bar:30} {pos}/{len} {elapsed_precise} {msg}")
             .expect("the template is valid"),
     );
-    let (cases, reference) = measure(&study, &|k, _, model| {
+    let (cases, reference) = measure(study, &|k, _, model| {
         bar.set_position(k as u64);
         bar.set_message(format!("cut block speed–error: {model}"));
     })?;
@@ -40,21 +46,34 @@ pub fn section(report: &mut Report, depth: Depth) -> Result<()> {
              reference again.",
         );
     }
+    let (cut, tip) = if study.front == FULL_CUT {
+        ("full-width cut".to_string(), "the tip, here the far face")
+    } else {
+        (format!("cut from x = 0 to {} mm", study.front), "the tip")
+    };
     report.text(&format!(
-        "Default block ({} cubes at ×1), full-width cut, 10 mm pull, E and ν at \
-         their defaults; β is `mesh_grading` (1: uniform, 2: layers growing linearly \
-         away from the cut plane, the crack front and the faces, x cells away from the tip, \
-         here the far face). Errors: relative for the reaction \
+        "Default block ({} cubes at ×1, the accurate setting {}), {cut}, 10 mm pull, E and ν \
+         at their defaults; β is `mesh_grading` (1: uniform, 2: layers growing linearly \
+         away from the cut plane, the crack front and the faces, x cells away from {tip}). \
+         Errors: relative for the reaction \
          and the bottom lift, largest deviation (mm) of the top surface along x = 50 mm \
          (seed 002's acceptance: 1 mm). Run time: set-up, cut and pull, cases one after \
          another on this machine; the Pareto front uses the larger of the two relative \
          errors.",
-        cubes(CELLS)
+        cubes(CELLS),
+        accurate().cubes()
     ));
     reference_table(report, &reference)?;
     if depth == Depth::Full {
+        let refine: Vec<String> = study
+            .reference
+            .iter()
+            .map(|m| m.refine.to_string())
+            .collect();
         let measured = format!(
-            "`harness cut-speed-error` (harness {})",
+            "`harness cut-speed-error --front {} --reference-refine {}` (harness {})",
+            study.front,
+            refine.join(","),
             env!("CARGO_PKG_VERSION")
         );
         write_reference(&reference, &measured, &report.path("reference.toml"))?;
@@ -167,7 +186,7 @@ fn table(report: &mut Report, cases: &[BlockRun], reference: &Answer) {
             let mut row = vec![
                 m.law.name().into(),
                 m.element.name().into(),
-                format!("×{}", m.refine),
+                m.cubes(),
                 format!("{}", m.grading),
             ];
             match &c.outcome {
@@ -207,7 +226,7 @@ fn table(report: &mut Report, cases: &[BlockRun], reference: &Answer) {
     );
 }
 
-/// Combined error against run time, one colour per law and element (×1 and ×2 joined),
+/// Combined error against run time, one colour per law, element and grading (its meshes joined),
 /// with the Pareto front.
 fn pareto_plot(report: &mut Report, cases: &[BlockRun], reference: &Answer) -> Result<()> {
     let labelled: Vec<(String, (f64, f64))> = cases

@@ -1,7 +1,7 @@
 //! The cut-block scene against exact solutions, against itself (refinement, monotonicity,
 //! symmetry) and against the numbers seed 002 reports.
 
-use models::scene::cutblock::{CutBlock, PROFILE_STATIONS};
+use models::scene::cutblock::{CutBlock, ACCURATE, PROFILE_STATIONS};
 use models::scene::{Scene, SceneError};
 
 /// The cut block with `settings` and `strings` set, initialized; the linear law unless
@@ -286,6 +286,27 @@ fn near_incompressible_force_grows_with_nu_and_stays_finite() {
         assert!(f.is_finite() && f > previous);
         previous = f;
     }
+}
+
+/// The accurate setting sets the law, the element, the cells and the grading it names on a
+/// scene (each read back changed from the default), and the scene builds with them: tet10
+/// on 6 × 20 × 10 cubes has (2·6 + 1)(2·20 + 1)(2·10 + 1) nodes uncut.
+#[test]
+fn the_accurate_setting_applies_its_parameters() {
+    let mut s = CutBlock::new();
+    let defaults = ["cells_x", "cells_y", "cells_z", "mesh_grading"].map(|n| get(&mut s, n));
+    ACCURATE.apply(&mut s).unwrap();
+    let applied = ["cells_x", "cells_y", "cells_z", "mesh_grading"].map(|n| get(&mut s, n));
+    assert_eq!(defaults, [6.0, 16.0, 14.0, 1.0]);
+    assert_eq!(applied, [6.0, 20.0, 10.0, 2.0]);
+    for (name, value) in [("material", "neo-hookean"), ("element", "tet10")] {
+        let vr = s.lookup(name).unwrap();
+        assert_eq!(s.get_string(vr).unwrap(), value);
+    }
+    s.initialize(0.0).unwrap();
+    s.do_step(0.0, 1.0).unwrap();
+    let (solid, _) = s.field().unwrap();
+    assert_eq!(solid.nodes().len(), 13 * 41 * 21);
 }
 
 #[test]
