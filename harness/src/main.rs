@@ -12,7 +12,7 @@ use harness::report::{
     sweep, variables, verification, Depth,
 };
 use harness::studies::identify::ModelForm;
-use harness::studies::{measurements, peer};
+use harness::studies::{cut_speed_error as cut_study, measurements, peer};
 
 #[derive(Parser)]
 #[command(
@@ -102,11 +102,12 @@ enum Command {
         #[arg(long, default_value = "report/cut_speed_error")]
         out: PathBuf,
         /// Where the incision ends (x, mm; 100: the seed's full cut)
-        #[arg(long, default_value_t = harness::studies::cut_speed_error::FULL_CUT)]
+        #[arg(long, default_value_t = cut_study::FULL_CUT)]
         front: f64,
-        /// The reference's meshes: factors on its cells (one, three or four, increasing)
-        #[arg(long, value_delimiter = ',', default_values_t = [0.5, 1.0, 1.5, 2.0])]
-        reference_refine: Vec<f64>,
+        /// The reference's meshes: factors on its cells (one, three or four, increasing;
+        /// default 0.5,1,1.5,2 at the full cut, 0.5,1,1.5 at a partial cut)
+        #[arg(long, value_delimiter = ',')]
+        reference_refine: Option<Vec<f64>>,
     },
     /// The blade crossing the pulled cut block in 1 mm steps on 1× and 2× cells: reaction,
     /// opening and lift against the blade, their difference, CSV and plot
@@ -275,7 +276,9 @@ fn run(cli: Cli) -> Result<Option<PathBuf>> {
             front,
             reference_refine,
         } => {
-            let study = harness::studies::cut_speed_error::Study::at(front, &reference_refine)?;
+            let refine =
+                reference_refine.unwrap_or_else(|| cut_study::reference_refine(front).to_vec());
+            let study = cut_study::Study::at(front, &refine)?;
             let mut report = report::Report::create(&out, "Speed versus error, cut block")?;
             cut_speed_error::study_section(&mut report, &study, Depth::Full)?;
             report.finish()?

@@ -1,5 +1,5 @@
 //! Cut-block scene benchmarks on the default block (6 × 16 × 14 cubes × 6 tetrahedra, split
-//! along x as the scene splits them).
+//! along x as the scene splits them) and, where named, on the accurate setting.
 //!
 //! Run: `cargo bench -p models --bench cutblock`.
 
@@ -179,10 +179,11 @@ fn contact_step(bencher: Bencher) {
     });
 }
 
-/// The default block with the full cut, pulled 0 → 10 mm in one step in the default load
+/// The block of each setting with the full cut, pulled 0 → 10 mm in one step in the default load
 /// increments (`max_increment` = 5 mm): the finite-strain Newton solve (the set-up and the
 /// cut are outside the timing). Iterations and the assembly / factorization / solve split:
-/// `cargo run --release -p models --example cutblock_pull -- MATERIAL ELEMENT`.
+/// `cargo run --release -p models --example cutblock_pull -- MATERIAL ELEMENT` (or
+/// `-- accurate`).
 #[divan::bench(args = ["linear tet4", "neo-hookean tet4", "neo-hookean tet10", "accurate"], sample_count = 5, sample_size = 1)]
 fn pull_to_10mm(bencher: Bencher, setting: &str) {
     bencher

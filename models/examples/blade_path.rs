@@ -4,9 +4,10 @@
 //!
 //! `cargo run --release -p models --example blade_path -- [PULL] [STEP] [MATERIAL] [ELEMENT]
 //! [REFINE] [FROM]` (defaults: 10 mm, 0.5 mm, neo-hookean, tet4, 1, 0 mm: the blade starts
-//! at FROM).
+//! at FROM); MATERIAL `accurate` takes the accurate setting (`ACCURATE`, ELEMENT then
+//! ignored), its cells × REFINE. Warnings the scene gave are printed at the end.
 
-use models::scene::cutblock::CutBlock;
+use models::scene::cutblock::{CutBlock, Setting};
 use models::scene::Scene;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -19,15 +20,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (pull, step, refine) = (number(1, 10.0)?, number(2, 0.5)?, number(5, 1.0)?);
     let from = number(6, 0.0)?;
     let material = args.get(3).map_or("neo-hookean", String::as_str);
-    let element = args.get(4).map_or("tet4", String::as_str);
+    let setting = Setting::named(material, args.get(4).map_or("tet4", String::as_str))?;
     let mut s = CutBlock::new();
-    for (name, value) in [("material", material), ("element", element)] {
-        let vr = s.lookup(name)?;
-        s.set_string(vr, value)?;
-    }
-    for (name, cells) in [("cells_x", 6.0), ("cells_y", 16.0), ("cells_z", 14.0)] {
-        s.set(name, cells * refine)?;
-    }
+    let cells = setting.cells.map(|c| c * refine);
+    Setting { cells, ..setting }.apply(&mut s)?;
     s.initialize(0.0)?;
     s.set("pull", pull)?;
     s.set("scalpel_x", from)?;

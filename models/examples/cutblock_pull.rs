@@ -7,30 +7,22 @@
 //! `cargo run --release -p models --example cutblock_pull -- [MATERIAL] [ELEMENT] [REFINE]
 //! [MAX_INCREMENT]` (defaults: neo-hookean tet10 1 and the scene's `max_increment`; REFINE
 //! multiplies the cells along each axis), or `-- accurate [REFINE] [MAX_INCREMENT]` for the
-//! accurate setting ([`ACCURATE`]: its cells × REFINE).
+//! accurate setting (`ACCURATE`: its cells × REFINE).
 
 use std::time::Instant;
 
-use models::assembly::tetrahedra::Tetrahedron;
-use models::element::Law;
-use models::scene::cutblock::{CutBlock, Setting, ACCURATE};
+use models::scene::cutblock::{CutBlock, Setting};
 use models::scene::Scene;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let (setting, rest) = match args.first().map(String::as_str) {
-        Some("accurate") => (ACCURATE, args.get(1..).unwrap_or_default()),
-        material => {
-            let element = args.get(1).map_or("tet10", String::as_str);
-            let setting = Setting {
-                law: Law::parse(material.unwrap_or("neo-hookean"))?,
-                element: Tetrahedron::parse(element)?,
-                cells: [6.0, 16.0, 14.0],
-                grading: 1.0,
-            };
-            (setting, args.get(2..).unwrap_or_default())
-        }
-    };
+    let material = args.first().map_or("neo-hookean", String::as_str);
+    let setting = Setting::named(material, args.get(1).map_or("tet10", String::as_str))?;
+    let rest = match material {
+        "accurate" => args.get(1..),
+        _ => args.get(2..),
+    }
+    .unwrap_or_default();
     let refine: f64 = rest
         .first()
         .map_or(Ok(1.0), |v| v.parse())

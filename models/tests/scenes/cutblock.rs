@@ -1,7 +1,7 @@
 //! The cut-block scene against exact solutions, against itself (refinement, monotonicity,
 //! symmetry) and against the numbers seed 002 reports.
 
-use models::scene::cutblock::{CutBlock, ACCURATE, PROFILE_STATIONS};
+use models::scene::cutblock::{CutBlock, Setting, ACCURATE, PROFILE_STATIONS};
 use models::scene::{Scene, SceneError};
 
 /// The cut block with `settings` and `strings` set, initialized; the linear law unless
@@ -289,11 +289,13 @@ fn near_incompressible_force_grows_with_nu_and_stays_finite() {
 }
 
 /// The accurate setting sets the law, the element, the cells and the grading it names on a
-/// scene (each read back changed from the default), and the scene builds with them: tet10
+/// scene (each read back changed from what it was), and the scene builds with them: tet10
 /// on 6 × 20 × 10 cubes has (2·6 + 1)(2·20 + 1)(2·10 + 1) nodes uncut.
 #[test]
 fn the_accurate_setting_applies_its_parameters() {
     let mut s = CutBlock::new();
+    let material = s.lookup("material").unwrap();
+    s.set_string(material, "linear").unwrap();
     let defaults = ["cells_x", "cells_y", "cells_z", "mesh_grading"].map(|n| get(&mut s, n));
     ACCURATE.apply(&mut s).unwrap();
     let applied = ["cells_x", "cells_y", "cells_z", "mesh_grading"].map(|n| get(&mut s, n));
@@ -307,6 +309,23 @@ fn the_accurate_setting_applies_its_parameters() {
     s.do_step(0.0, 1.0).unwrap();
     let (solid, _) = s.field().unwrap();
     assert_eq!(solid.nodes().len(), 13 * 41 * 21);
+}
+
+/// The settings the examples name: `accurate`, or a law and an element on the default
+/// cells; an unknown law or element is refused naming it.
+#[test]
+fn a_named_setting_is_the_accurate_one_or_a_law_on_the_default_cells() {
+    assert_eq!(Setting::named("accurate", "tet4").unwrap(), ACCURATE);
+    let linear = Setting::named("linear", "tet4").unwrap();
+    assert_eq!(
+        (linear.law.name(), linear.element.name()),
+        ("linear", "tet4")
+    );
+    assert_eq!((linear.cells, linear.grading), ([6.0, 16.0, 14.0], 1.0));
+    for (material, element, named) in [("rubber", "tet4", "rubber"), ("linear", "hex8", "hex8")] {
+        let err = Setting::named(material, element).unwrap_err().to_string();
+        assert!(err.contains(named), "{err}");
+    }
 }
 
 #[test]

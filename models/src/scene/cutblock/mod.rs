@@ -112,6 +112,27 @@ pub const ACCURATE: Setting = Setting {
 };
 
 impl Setting {
+    /// `law` and `element` on the default cells (6 × 16 × 14, uniform).
+    pub fn on_default_cells(law: Law, element: Tetrahedron) -> Self {
+        Self {
+            law,
+            element,
+            cells: [6.0, 16.0, 14.0],
+            grading: 1.0,
+        }
+    }
+
+    /// The setting the examples name on their command line: `accurate` ([`ACCURATE`]), or
+    /// a `material` (`linear`, `neo-hookean`, `stvk`) with an `element` on the default
+    /// cells; an unknown name is an error naming it.
+    pub fn named(material: &str, element: &str) -> Result<Self, SceneError> {
+        Ok(if material == "accurate" {
+            ACCURATE
+        } else {
+            Self::on_default_cells(Law::parse(material)?, Tetrahedron::parse(element)?)
+        })
+    }
+
     /// Sets the setting's parameters on `scene` (before `initialize`).
     pub fn apply(&self, scene: &mut CutBlock) -> Result<(), SceneError> {
         for (name, value) in [
