@@ -4,7 +4,7 @@
 //! Run: `cargo bench -p models --bench cutblock`.
 
 use divan::Bencher;
-use models::scene::cutblock::{CutBlock, ACCURATE, PROFILE_STATIONS};
+use models::scene::cutblock::{CutBlock, Setting, PROFILE_STATIONS};
 use models::scene::Scene;
 
 fn main() {
@@ -28,18 +28,14 @@ fn initialized() -> CutBlock {
 }
 
 /// The block of `setting`, initialized: "MATERIAL ELEMENT" on the default cells, or
-/// "accurate" ([`ACCURATE`]: neo-Hookean tet10 on 6 × 20 × 10 cubes graded with β = 2).
+/// "accurate" ([`models::scene::cutblock::ACCURATE`]: neo-Hookean tet10 on 6 × 20 × 10 cubes graded with β = 2).
 fn initialized_as(setting: &str) -> CutBlock {
     let mut s = CutBlock::new();
-    match setting.split_once(' ') {
-        Some((material, element)) => {
-            for (name, value) in [("material", material), ("element", element)] {
-                let vr = s.lookup(name).unwrap();
-                s.set_string(vr, value).unwrap();
-            }
-        }
-        None => ACCURATE.apply(&mut s).unwrap(),
-    }
+    let (material, element) = setting.split_once(' ').unwrap_or((setting, ""));
+    Setting::named(material, element)
+        .unwrap()
+        .apply(&mut s)
+        .unwrap();
     s.initialize(0.0).unwrap();
     s
 }

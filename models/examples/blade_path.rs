@@ -22,8 +22,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let material = args.get(3).map_or("neo-hookean", String::as_str);
     let setting = Setting::named(material, args.get(4).map_or("tet4", String::as_str))?;
     let mut s = CutBlock::new();
-    let cells = setting.cells.map(|c| c * refine);
-    Setting { cells, ..setting }.apply(&mut s)?;
+    let setting = setting.refined(refine);
+    setting.apply(&mut s)?;
     s.initialize(0.0)?;
     s.set("pull", pull)?;
     s.set("scalpel_x", from)?;

@@ -36,8 +36,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Some(m) = max_increment {
         s.set("max_increment", m)?;
     }
-    let cells = setting.cells.map(|c| c * refine);
-    Setting { cells, ..setting }.apply(&mut s)?;
+    let setting = setting.refined(refine);
+    setting.apply(&mut s)?;
     let start = Instant::now();
     s.initialize(0.0)?;
     s.set("scalpel_x", 100.0)?;
@@ -50,7 +50,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let pull = start.elapsed();
     let (w, timing) = (s.work(), s.timing());
     let dofs = s.field().map_or(0, |(solid, _)| solid.n_dofs());
-    let [x, y, z] = cells;
+    let [x, y, z] = setting.cells;
     println!(
         "{} {}, {x} × {y} × {z} cubes β = {}, {dofs} dofs:",
         setting.law.name(),

@@ -112,25 +112,30 @@ pub const ACCURATE: Setting = Setting {
 };
 
 impl Setting {
-    /// `law` and `element` on the default cells (6 × 16 × 14, uniform).
-    pub fn on_default_cells(law: Law, element: Tetrahedron) -> Self {
-        Self {
-            law,
-            element,
-            cells: [6.0, 16.0, 14.0],
-            grading: 1.0,
+    /// The setting the examples and benches name: `accurate` ([`ACCURATE`]), or a
+    /// `material` (`linear`, `neo-hookean`, `stvk`) with an `element` on the scene's default
+    /// cells and grading; an unknown name is an error naming it.
+    pub fn named(material: &str, element: &str) -> Result<Self, SceneError> {
+        if material == "accurate" {
+            return Ok(ACCURATE);
         }
+        let mut defaults = CutBlock::new();
+        let [x, y, z, grading] =
+            ["cells_x", "cells_y", "cells_z", "mesh_grading"].map(|n| defaults.get(n));
+        Ok(Self {
+            law: Law::parse(material)?,
+            element: Tetrahedron::parse(element)?,
+            cells: [x?, y?, z?],
+            grading: grading?,
+        })
     }
 
-    /// The setting the examples name on their command line: `accurate` ([`ACCURATE`]), or
-    /// a `material` (`linear`, `neo-hookean`, `stvk`) with an `element` on the default
-    /// cells; an unknown name is an error naming it.
-    pub fn named(material: &str, element: &str) -> Result<Self, SceneError> {
-        Ok(if material == "accurate" {
-            ACCURATE
-        } else {
-            Self::on_default_cells(Law::parse(material)?, Tetrahedron::parse(element)?)
-        })
+    /// The setting with its cells along each axis times `factor`.
+    pub fn refined(self, factor: f64) -> Self {
+        Self {
+            cells: self.cells.map(|c| c * factor),
+            ..self
+        }
     }
 
     /// Sets the setting's parameters on `scene` (before `initialize`).
