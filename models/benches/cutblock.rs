@@ -28,7 +28,7 @@ fn initialized() -> CutBlock {
 }
 
 /// The block of `setting`, initialized: "MATERIAL ELEMENT" on the default cells, or
-/// "accurate" ([`models::scene::cutblock::ACCURATE`]: neo-Hookean tet10 on 6 × 20 × 10 cubes graded with β = 2).
+/// "accurate" ([`models::scene::cutblock::ACCURATE`]: neo-Hookean tet10 on 7 × 18 × 10 cubes graded with β = 2.25).
 fn initialized_as(setting: &str) -> CutBlock {
     let mut s = CutBlock::new();
     let (material, element) = setting.split_once(' ').unwrap_or((setting, ""));
@@ -84,13 +84,14 @@ fn all_outputs(bencher: Bencher) {
 /// the new mesh. From 55 to 56 mm the mesh keeps its connectivity (the front moves within a
 /// cell): the pattern and symbolic analysis are reused, and the storage of the solver the
 /// set-up's last advance replaced; from 50 to 51 mm a cell appears at x = 0 and all are
-/// made anew. The accurate setting's x planes lie at the front ± 100 (k/6)² mm, so that its
-/// mesh changes where one of them crosses an end face (at 2.8, 11.1, 25, 30.6, 44.4, 55.6,
-/// 69.4, 75, 88.9 and 97.2 mm): for it the roles swap, 55 → 56 mm changes the mesh and
-/// 50 → 51 mm keeps it.
+/// made anew. The accurate setting's x planes lie at the front ± 100 (k/7)^2.25 mm, so that
+/// its mesh changes where one of them crosses an end face (at 1.3, 6.0, 14.9, 28.4, 29.3,
+/// 46.9, 53.1, 70.7, 71.6, 85.1, 94.0 and 98.8 mm): for it 55 → 56 and 50 → 51 mm keep the
+/// mesh and 53 → 54 mm (a cell vanishes at x = 100) changes it; for the others 53 → 54 mm
+/// keeps it.
 #[divan::bench(
     args = ["linear tet4", "neo-hookean tet4", "neo-hookean tet10", "accurate"],
-    consts = [55, 50],
+    consts = [55, 50, 53],
     sample_count = 5,
     sample_size = 1
 )]

@@ -1,11 +1,15 @@
 //! The cut block pulled by a fixed amount while the blade crosses it in equal steps: prints
-//! blade position, cut length, reaction, opening and bottom lift per step, and the largest
-//! change of the reaction per step against the mean change.
+//! blade position, cut length, reaction, opening, bottom lift, and the step's time (s),
+//! Newton iterations and factorizations per step; then the largest change of the reaction
+//! per step against the mean change, and the steps' median and longest time and their
+//! iterations and factorizations.
 //!
 //! `cargo run --release -p models --example blade_path -- [PULL] [STEP] [MATERIAL] [ELEMENT]
 //! [REFINE] [FROM]` (defaults: 10 mm, 0.5 mm, neo-hookean, tet4, 1, 0 mm: the blade starts
 //! at FROM); MATERIAL `accurate` takes the accurate setting (`ACCURATE`, ELEMENT then
 //! ignored), its cells × REFINE. Warnings the scene gave are printed at the end.
+
+use std::time::Instant;
 
 use models::scene::cutblock::{CutBlock, Setting};
 use models::scene::Scene;
@@ -30,18 +34,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     s.do_step(0.0, 1.0)?;
     let steps = ((100.0 - from) / step).round() as usize;
     let mut forces = vec![s.get("reaction_force")?];
-    println!("blade_mm,cut_length_mm,reaction_N,opening_mm,bottom_lift_mm");
+    let mut times = Vec::with_capacity(steps);
+    let total = s.work();
+    println!("blade_mm,cut_length_mm,reaction_N,opening_mm,bottom_lift_mm,step_s,iterations,factorizations");
     for k in 1..=steps {
         let x = from + k as f64 * step;
         s.set("scalpel_x", x)?;
+        let (start, before) = (Instant::now(), s.work());
         s.do_step(k as f64, 1.0)?;
-        let f = s.get("reaction_force")?;
+        times.push(start.elapsed().as_secs_f64());
+        let (f, after) = (s.get("reaction_force")?, s.work());
         forces.push(f);
         println!(
-            "{x},{},{f:.6},{:.5},{:.5}",
+            "{x},{},{f:.6},{:.5},{:.5},{:.4},{},{}",
             s.get("cut_length")?,
             s.get("cut_opening")?,
-            s.get("bottom_lift")?
+            s.get("bottom_lift")?,
+            times[k - 1],
+            after.iterations - before.iterations,
+            after.factorizations - before.factorizations
         );
     }
     let changes: Vec<f64> = forces.windows(2).map(|w| (w[1] - w[0]).abs()).collect();
@@ -52,6 +63,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         forces[0],
         forces[forces.len() - 1],
         largest / mean
+    );
+    times.sort_by(f64::total_cmp);
+    let done = s.work();
+    eprintln!(
+        "steps: median {:.3} s, longest {:.3} s, all {:.1} s; {} Newton iterations, {} factorizations",
+        times[times.len() / 2],
+        times[times.len() - 1],
+        times.iter().sum::<f64>(),
+        done.iterations - total.iterations,
+        done.factorizations - total.factorizations
     );
     for w in s.take_warnings() {
         eprintln!("warning: {w}");

@@ -298,7 +298,7 @@ def test_valsalva_and_bearing_down_hold_inside_the_model_s_validity(configuratio
 def test_the_blade_crosses_the_pulled_block_with_every_call_ok(setting, step_mm):
     """Through the FMU (FMI 2.0), the block pulled 10 mm, then the blade from x = 0 across
     the whole block (issue 54's path): on the defaults in 1 mm steps, with the accurate
-    setting (neo-Hookean tet10 on 6 x 20 x 10 cubes, mesh_grading 2) in 5 mm steps, every
+    setting (neo-Hookean tet10 on 7 x 18 x 10 cubes, mesh_grading 2.25) in 5 mm steps, every
     fmi2DoStep returns OK and nothing above OK is logged (no validity warning). The cut
     weakens the block: the reaction falls by more than a tenth from the uncut block to the
     full cut (measured: 7.93 -> 6.93 N, 12.6 %, on the defaults; 7.70 -> 6.47 N, 15.9 %,
@@ -307,8 +307,8 @@ def test_the_blade_crosses_the_pulled_block_with_every_call_ok(setting, step_mm)
     cell narrows (measured: up to 0.025 % between 12 and 16 mm, a discretization artifact:
     a longer cut is never stiffer)."""
     strings = [("element", "tet10")] if setting == "accurate" else []
-    reals = [("cells_x", 6.0), ("cells_y", 20.0), ("cells_z", 10.0),
-             ("mesh_grading", 2.0)] if setting == "accurate" else []
+    reals = [("cells_x", 7.0), ("cells_y", 18.0), ("cells_z", 10.0),
+             ("mesh_grading", 2.25)] if setting == "accurate" else []
     logged = []
     s, step, set_real, close = raw_stepping("fmi2", "cutblock", logged, strings, reals)
     vrs = {v.name: v.valueReference

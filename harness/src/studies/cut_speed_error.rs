@@ -41,14 +41,16 @@ pub const TOLERANCES: Errors = Errors {
     profile: 0.1,
 };
 
-/// The accurate setting ([`ACCURATE`]): neo-Hookean tet10 on 6 × 20 × 10 cubes graded
-/// with β = 2, within [`TOLERANCES`] of the converged references at the full cut and at two
-/// of the [`PARTIAL_CUTS`] (49 and 82 mm) with the most margin of the meshes measured short
-/// of 6 s a run (6 × 20 × 8 and 8 × 16 × 8 are within them too, a little cheaper, with the
-/// full cut's lift at 2.56 and 2.66 %). With the incision ending at 25 mm its bottom lift
-/// is 4.1 % off; no mesh measured meets the tolerances at all four fronts. The layers across
-/// the cut (y) carry the lift's and the profile's error; 10 layers in z do about as well as
-/// 14 (BENCHMARKS.md, "The accurate cut block across the blade's path").
+/// The accurate setting ([`ACCURATE`]): neo-Hookean tet10 on 7 × 18 × 10 cubes graded
+/// with β = 2.25, within [`TOLERANCES`] of the converged references at the full cut and at
+/// all three [`PARTIAL_CUTS`], at the cost of the former 6 × 20 × 10, β = 2 (whose bottom
+/// lift with the incision ending at 25 mm is 4.1 % off). That lift is the last figure to
+/// converge and not monotone in the x cells and β (3.1–3.7 % on 8 × 20 × 10 at β = 2.25,
+/// 7 × 18 × 10 at β = 2.35 and 2.5; 2.7 % at β = 2.15), so the setting's 2.8 % is a margin
+/// smaller than the spread of its neighbours. The layers across the cut (y) carry the
+/// lift's and the profile's error; 10 layers in z do about as well as 14 (BENCHMARKS.md,
+/// "The accurate cut block across the blade's path" and "The accurate setting within the
+/// tolerances at all four fronts").
 pub fn accurate() -> BlockSetting {
     BlockSetting {
         base: ACCURATE.cells,
@@ -959,18 +961,18 @@ mod tests {
     /// What docs/verification.md quotes of the accurate setting: (front, reaction %,
     /// bottom lift %, profile mm).
     const QUOTED_ACCURATE: [(f64, f64, f64, f64); 4] = [
-        (FULL_CUT, 0.53, 1.79, 0.060),
-        (PARTIAL_CUTS[0], 0.20, 4.07, 0.009),
-        (PARTIAL_CUTS[1], 0.27, 1.11, 0.040),
-        (PARTIAL_CUTS[2], 0.51, 1.74, 0.075),
+        (FULL_CUT, 0.53, 1.42, 0.061),
+        (PARTIAL_CUTS[0], 0.17, 2.77, 0.007),
+        (PARTIAL_CUTS[1], 0.26, 1.41, 0.037),
+        (PARTIAL_CUTS[2], 0.49, 1.91, 0.066),
     ];
 
     /// The accurate setting against the stored converged references (each checked first
     /// by its coarsest mesh run again): within [`TOLERANCES`] at the full cut and with the
-    /// incision ending at 49 and 82 mm, beyond them only at 25 mm (its bottom lift); every
-    /// error at the figure docs/verification.md quotes, to half a unit of its last digit.
+    /// incision ending at 25, 49 and 82 mm; every error at the figure docs/verification.md
+    /// quotes, to half a unit of its last digit.
     #[test]
-    fn the_accurate_setting_is_within_the_tolerances_but_at_25_mm() {
+    fn the_accurate_setting_is_within_the_tolerances_at_all_four_fronts() {
         for (front, reaction, lift, profile) in QUOTED_ACCURATE {
             let coarsest = graded_reference(&[0.5]).remove(0);
             let fresh = run(&coarsest, front).unwrap();
@@ -992,12 +994,7 @@ mod tests {
                     "front {front} {name}: {got:.4}, quoted {want}"
                 );
             }
-            let within = e.within(&TOLERANCES);
-            assert_eq!(within, front != PARTIAL_CUTS[0], "front {front}: {e:?}");
-            assert!(
-                within || e.reaction <= TOLERANCES.reaction && e.profile <= TOLERANCES.profile,
-                "front {front}: {e:?}"
-            );
+            assert!(e.within(&TOLERANCES), "front {front}: {e:?}");
         }
     }
 

@@ -99,16 +99,16 @@ pub struct Setting {
     pub grading: f64,
 }
 
-/// The accurate setting: neo-Hookean tet10 on 6 × 20 × 10 cubes graded with β = 2, within
-/// 1 % (reaction), 3 % (bottom lift) and 0.1 mm (profile along x = 50 mm) of the converged
-/// references at the seed's full cut and with the incision ending at 49 and 82 mm; with
-/// it ending at 25 mm the bottom lift is 4.1 % off (the harness's
-/// `cut_speed_error::accurate`, whose test checks each figure; docs/verification.md).
+/// The accurate setting: neo-Hookean tet10 on 7 × 18 × 10 cubes graded with β = 2.25,
+/// within 1 % (reaction), 3 % (bottom lift) and 0.1 mm (profile along x = 50 mm) of the
+/// converged references at the seed's full cut and with the incision ending at 25, 49 and
+/// 82 mm (the harness's `cut_speed_error::accurate`, whose test checks each figure;
+/// docs/verification.md).
 pub const ACCURATE: Setting = Setting {
     law: Law::NeoHookean,
     element: Tetrahedron::Tet10,
-    cells: [6.0, 20.0, 10.0],
-    grading: 2.0,
+    cells: [7.0, 18.0, 10.0],
+    grading: 2.25,
 };
 
 impl Setting {

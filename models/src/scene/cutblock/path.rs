@@ -1,7 +1,7 @@
-//! The path of equilibria a blade advance within a cell starts from: the equilibria of one
-//! pattern (the same connectivity and numbering: the front within one cell,
-//! [`super::geometry`]'s x planes) at earlier blade positions, and their extrapolation to
-//! the new front, a continuation method's predictor.
+//! The path of equilibria a blade advance starts from: the equilibria of one pattern (the
+//! same connectivity and numbering: the front within one cell, [`super::geometry`]'s x
+//! planes) at earlier blade positions, and their extrapolation to the new front, a
+//! continuation method's predictor (carried onto a new mesh where the advance changes it).
 
 use serde::{Deserialize, Serialize};
 
@@ -12,6 +12,10 @@ pub struct Station {
     pub front: f64,
     pub load: (f64, f64),
     pub u: Vec<f64>,
+    /// Whether it was carried from another pattern's mesh: kept only until the pattern has
+    /// two equilibria of its own.
+    #[serde(default)]
+    pub carried: bool,
 }
 
 /// The most equilibria a start is extrapolated from: a quadratic in the blade position.
@@ -19,8 +23,9 @@ pub const PATH_POINTS: usize = 3;
 
 /// The start at `front` from the stations of `path` under `load` and the latest equilibrium
 /// `latest` (at `latest.front`, under `load`): the extrapolation of the last
-/// [`PATH_POINTS`] of them ([`extrapolate`], None where it does not reach), and the path the
-/// new topology keeps (the last `PATH_POINTS` − 1 of them, `latest` included).
+/// [`PATH_POINTS`] of them ([`extrapolate`], None where it does not reach; a carried station
+/// left out once two are not), and the path the new topology keeps (the last
+/// `PATH_POINTS` − 1 of them, `latest` included).
 pub fn continue_path(
     path: &[Station],
     latest: Station,
@@ -32,6 +37,12 @@ pub fn continue_path(
         .cloned()
         .collect();
     path.push(latest);
+    // Two of the pattern's own equilibria extrapolate better than with a carried one
+    // through them (along the blade's path: BENCHMARKS.md, "The start of an advance that
+    // changes the mesh").
+    if path.iter().filter(|s| !s.carried).count() >= 2 {
+        path.retain(|s| !s.carried);
+    }
     path.drain(..path.len().saturating_sub(PATH_POINTS));
     let points: Vec<(f64, &[f64])> = path.iter().map(|s| (s.front, s.u.as_slice())).collect();
     let start = extrapolate(&points, front);
@@ -96,5 +107,24 @@ mod tests {
         assert!((linear[0] - line(22.5)[0]).abs() < 1e-13);
         assert!(extrapolate(&[(20.0, &p), (21.0, &q)], 23.5).is_none());
         assert!(extrapolate(&[(21.0, &q)], 22.0).is_none());
+    }
+
+    /// A carried station extrapolates with the pattern's one own equilibrium, and is left
+    /// out once there are two: the start is then the line through those.
+    #[test]
+    fn a_carried_station_serves_until_the_pattern_has_two_of_its_own() {
+        let station = |front: f64, u: f64, carried: bool| Station {
+            front,
+            load: (10.0, 0.0),
+            u: vec![u],
+            carried,
+        };
+        let (start, path) =
+            continue_path(&[station(1.0, 5.0, true)], station(2.0, 6.0, false), 3.0);
+        assert_eq!(start, Some(vec![7.0]));
+        assert_eq!(path.len(), 2);
+        let (start, path) = continue_path(&path, station(3.0, 8.0, false), 4.0);
+        assert_eq!(start, Some(vec![10.0]));
+        assert!(path.iter().all(|s| !s.carried));
     }
 }

@@ -3,8 +3,9 @@
 //! the top surface — and its equilibrium solver ([`Equilibrium`]), which solves on them.
 //! A topology of the previous one's pattern (the front moved within a cell) shares its
 //! pattern and symbolic analysis and starts from its path of equilibria extrapolated
-//! ([`super::path`]); another starts from the last equilibrium carried onto its mesh
-//! ([`super::transfer`]).
+//! ([`super::path`]); another starts from that extrapolation made on the previous mesh slid
+//! to the new front and carried onto its mesh ([`super::transfer`]), or from the last
+//! equilibrium carried over where there is no path.
 
 use std::sync::Arc;
 
@@ -264,9 +265,12 @@ impl Topology {
     /// Starts the next solve, for the finite-strain laws (the linear law solves directly and
     /// needs no start), under `from`'s load: from the equilibria of `from`'s pattern at
     /// earlier blade positions under that load, `from`'s own the latest, extrapolated to
-    /// this front ([`continue_path`]), where this topology has that pattern and there are two
-    /// or three of them; else from `from`'s equilibrium carried onto this mesh
-    /// ([`transfer`]). Returns whether it started from either.
+    /// this front ([`continue_path`]) where there are two or three of them — on this
+    /// topology's nodes where it has that pattern, else carried onto this mesh from
+    /// `from`'s slid to this front ([`Self::slid`], [`transfer`]); else from `from`'s
+    /// equilibrium carried onto this mesh. A topology of another pattern starts its path
+    /// with `from`'s equilibrium ([`Self::carried_path`]). Returns whether it started from
+    /// any.
     pub fn start_from(
         &mut self,
         g: &Geometry,
@@ -276,26 +280,34 @@ impl Topology {
         if !self.eq.is_newton() {
             return Ok(false);
         }
-        let mut extrapolated = false;
-        if Arc::ptr_eq(&self.asm, &from.asm) {
-            let latest = Station {
-                front: from.front,
-                load: from.eq.load,
-                u: from.eq.u.clone(),
-            };
-            let (start, path) = continue_path(&from.path, latest, self.front);
-            if let Some(u) = start {
-                self.eq.u = u;
-                extrapolated = true;
-            }
-            self.path = path;
+        let latest = Station {
+            front: from.front,
+            load: from.eq.load,
+            u: from.eq.u.clone(),
+            carried: false,
+        };
+        let (start, path) = continue_path(&from.path, latest, self.front);
+        let same_pattern = Arc::ptr_eq(&self.asm, &from.asm);
+        let carried = match start {
+            Some(u) if same_pattern => Some(u),
+            // The path's extrapolation lies on `from`'s mesh slid to this front (the last
+            // equilibrium carried over where that mesh or the transfer cannot be made).
+            Some(u) => from
+                .slid(g, self.front)
+                .ok()
+                .and_then(|slid| transfer(&slid, &u, &self.solid, g.y_cut)),
+            None => None,
         }
-        if !extrapolated {
-            let Some(u) = transfer(&from.solid, &from.eq.u, &self.solid, g.y_cut) else {
-                return Ok(false);
-            };
-            self.eq.u = u;
-        }
+        .or_else(|| transfer(&from.solid, &from.eq.u, &self.solid, g.y_cut));
+        self.path = if same_pattern {
+            path
+        } else {
+            self.carried_path(g, from)
+        };
+        let Some(u) = carried else {
+            return Ok(false);
+        };
+        self.eq.u = u;
         let (on, eq) = self.parts();
         let load = from.eq.load;
         eq.set_loads(&on, g, load.0, load.1, scalpel_x);
@@ -305,6 +317,53 @@ impl Topology {
         }
         eq.restart(&on, g, load, scalpel_x)?;
         Ok(true)
+    }
+
+    /// `from`'s equilibrium carried onto this mesh slid back to `from`'s front
+    /// ([`Self::slid`], [`transfer`]; a node slid beyond `from`'s mesh reads its end face):
+    /// the path this pattern extrapolates along at the next advance, as if its mesh had been
+    /// cut there, until it has two equilibria of its own ([`continue_path`]). Only the latest
+    /// equilibrium: carrying the two latest (a quadratic at the next advance) took more
+    /// Newton iterations along the blade's path (BENCHMARKS.md, "The start of an advance
+    /// that changes the mesh"). Empty where it cannot be carried.
+    fn carried_path(&self, g: &Geometry, from: &Topology) -> Vec<Station> {
+        let carried = self
+            .slid(g, from.front)
+            .ok()
+            .and_then(|slid| transfer(&from.solid, &from.eq.u, &slid, g.y_cut));
+        carried
+            .map(|u| Station {
+                front: from.front,
+                load: from.eq.load,
+                u,
+                carried: true,
+            })
+            .into_iter()
+            .collect()
+    }
+
+    /// This topology's solid with its front slid to `front` as its x planes slide within a
+    /// cell ([`Geometry::x_planes`]): every node moved along x by `front` − `self.front`
+    /// but those on the end face the front moves away from, the other end face too, so that
+    /// no cell closes where a plane would cross it (the block then reaches past that end by
+    /// the move; the cell at the face left behind widens). Its nodes are where the
+    /// equilibria of this pattern extrapolated to `front` ([`continue_path`]) hold, but at
+    /// the end faces, which stay put as the planes slide.
+    fn slid(&self, g: &Geometry, front: f64) -> Result<Solid, SceneError> {
+        let shift = front - self.front;
+        let stays = if shift > 0.0 { 0.0 } else { g.size[0] };
+        let nodes = self
+            .cut
+            .mesh
+            .nodes()
+            .iter()
+            .map(|&[x, y, z]| [if x == stays { x } else { x + shift }, y, z])
+            .collect();
+        let mesh = self.cut.mesh.moved(nodes)?;
+        Ok(match &self.quadratic {
+            Some(q) => Solid::quadratic(&q.moved(&mesh), self.solid.material),
+            None => Solid::linear(&mesh, self.solid.material),
+        })
     }
 
     /// Back to the unloaded block (after a start from another mesh that did not converge).

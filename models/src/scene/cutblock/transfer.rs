@@ -1,7 +1,8 @@
-//! The last equilibrium carried from one cut mesh to the next, where a blade advance that
+//! A displacement field carried from one cut mesh to another, where a blade advance that
 //! changes the mesh starts Newton's method (issue 27: it re-solves from the previous
-//! equilibrium, not from the unloaded block; within a cell the path is extrapolated
-//! instead, [`super::path`]).
+//! equilibrium, not from the unloaded block): the path of equilibria extrapolated to the
+//! new front on the old mesh slid there ([`super::path`]), or the last equilibrium; and
+//! the last equilibrium onto the new mesh slid back, the new pattern's path.
 //!
 //! Each node of the new mesh takes the old displacement field at its reference position:
 //! the old element that contains the point is found through a grid of the old mesh's node
@@ -129,21 +130,25 @@ fn barycentric(c: [[f64; 3]; 4], p: [f64; 3]) -> Option<[f64; 4]> {
 }
 
 /// The displacements (all dofs) of `to`'s nodes read from the field `u` on `from`, with
-/// the cut plane at `y_cut`; `None` if a node lies in no element of `from` (the meshes do
-/// not cover the same block).
+/// the cut plane at `y_cut`; a node beyond `from`'s ends in x reads the field on the end
+/// face it lies beyond (meshes slid along x reach past each other's ends); `None` if a
+/// node lies in no element of `from` otherwise (the meshes do not cover the same block).
 pub fn transfer(from: &Solid, u: &[f64], to: &Solid, y_cut: f64) -> Option<Vec<f64>> {
     let grid = Grid::new(from);
     let (old, sides) = (from.nodes(), node_sides(to, y_cut));
     let connectivity = from.connectivity();
+    let xs = &grid.planes[0];
+    let (first, last) = (xs[0], xs[xs.len() - 1]);
     let mut out = vec![0.0; to.n_dofs()];
-    for (n, p) in to.nodes().iter().enumerate() {
-        let (e, l) = grid.near(*p).find_map(|e| {
+    for (n, &[x, y, z]) in to.nodes().iter().enumerate() {
+        let p = [x.clamp(first, last), y, z];
+        let (e, l) = grid.near(p).find_map(|e| {
             let corners = from.corners(e);
             let side = element_side(old, corners, y_cut);
             if sides[n] != Side::Either && side != sides[n] {
                 return None;
             }
-            let l = barycentric(corners.map(|c| old[c]), *p)?;
+            let l = barycentric(corners.map(|c| old[c]), p)?;
             l.iter().all(|&x| x >= -1e-9).then_some((e, l))
         })?;
         let weights: Vec<f64> = match from.elements() {
@@ -210,6 +215,25 @@ mod tests {
                         "{kind:?} node {n} {p:?}: {got}"
                     );
                 }
+            }
+        }
+    }
+
+    /// A node beyond the old mesh's ends in x reads the field on the end face it lies
+    /// beyond (at its own y and z); the nodes within read it exactly.
+    #[test]
+    fn nodes_beyond_the_ends_read_the_end_faces() {
+        let f = |p: &[f64; 3]| [0.3 * p[0] - p[1] + 2.0, p[2] - 0.1 * p[0], 0.5 * p[1]];
+        let split = Split::ExtrudedX { mirrored: false };
+        let from = solid(vec![0.0, 2.0, 4.0, 6.0], split, Tetrahedron::Tet4);
+        let to = solid(vec![-1.0, 0.7, 2.7, 4.7, 7.0], split, Tetrahedron::Tet4);
+        let u: Vec<f64> = from.nodes().iter().flat_map(f).collect();
+        let carried = transfer(&from, &u, &to, 2.5).unwrap();
+        for (n, &[x, y, z]) in to.nodes().iter().enumerate() {
+            let exact = f(&[x.clamp(0.0, 6.0), y, z]);
+            for d in 0..3 {
+                let got = carried[3 * n + d];
+                assert!((got - exact[d]).abs() < 1e-12, "node {n} at x = {x}: {got}");
             }
         }
     }
