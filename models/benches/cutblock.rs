@@ -80,8 +80,8 @@ fn all_outputs(bencher: Bencher) {
 /// The blade advanced by 1 mm at a 10 mm pull, as in continuous cutting (the set-up, outside
 /// the timing, pulls with the blade at FROM − 3 mm and advances it by 1 mm three times): a
 /// new mesh, assembly, factorization and solve; the finite-strain laws start Newton from
-/// the last equilibria extrapolated along the blade's path (within a cell) or carried onto
-/// the new mesh. From 55 to 56 mm the mesh keeps its connectivity (the front moves within a
+/// the last equilibria extrapolated along the blade's path (carried onto the new mesh where
+/// it changes). From 55 to 56 mm the mesh keeps its connectivity (the front moves within a
 /// cell): the pattern and symbolic analysis are reused, and the storage of the solver the
 /// set-up's last advance replaced; from 50 to 51 mm a cell appears at x = 0 and all are
 /// made anew. The accurate setting's x planes lie at the front ± 100 (k/7)^2.25 mm, so that

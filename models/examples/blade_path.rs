@@ -66,14 +66,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     times.sort_by(f64::total_cmp);
     let done = s.work();
-    eprintln!(
-        "steps: median {:.3} s, longest {:.3} s, all {:.1} s; {} Newton iterations, {} factorizations",
-        times[times.len() / 2],
-        times[times.len() - 1],
-        times.iter().sum::<f64>(),
-        done.iterations - total.iterations,
-        done.factorizations - total.factorizations
-    );
+    if let Some(longest) = times.last() {
+        eprintln!(
+            "steps: median {:.3} s, longest {:.3} s, all {:.1} s; {} Newton iterations, {} factorizations",
+            times[times.len() / 2],
+            longest,
+            times.iter().sum::<f64>(),
+            done.iterations - total.iterations,
+            done.factorizations - total.factorizations
+        );
+    }
     for w in s.take_warnings() {
         eprintln!("warning: {w}");
     }

@@ -43,8 +43,9 @@ pub const TOLERANCES: Errors = Errors {
 
 /// The accurate setting ([`ACCURATE`]): neo-Hookean tet10 on 7 × 18 × 10 cubes graded
 /// with β = 2.25, within [`TOLERANCES`] of the converged references at the full cut and at
-/// all three [`PARTIAL_CUTS`], at the cost of the former 6 × 20 × 10, β = 2 (whose bottom
-/// lift with the incision ending at 25 mm is 4.1 % off). That lift is the last figure to
+/// all three [`PARTIAL_CUTS`]; its pull costs what the former 6 × 20 × 10, β = 2 (whose
+/// bottom lift with the incision ending at 25 mm is 4.1 % off) took, its partial cuts
+/// more (their meshes are larger). That lift is the last figure to
 /// converge and not monotone in the x cells and β (3.1–3.7 % on 8 × 20 × 10 at β = 2.25,
 /// 7 × 18 × 10 at β = 2.35 and 2.5; 2.7 % at β = 2.15), so the setting's 2.8 % is a margin
 /// smaller than the spread of its neighbours. The layers across the cut (y) carry the

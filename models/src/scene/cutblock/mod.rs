@@ -515,8 +515,10 @@ impl CutBlock {
                         spare,
                     )
                 })?;
-                // A finite-strain law starts from the last equilibrium carried onto the
-                // new mesh, and from the unloaded block if that does not converge.
+                // A finite-strain law starts from its path extrapolated or the last
+                // equilibrium, carried onto the new mesh where it changed
+                // (`Topology::start_from`), and from the unloaded block if that does not
+                // converge.
                 let warm = match slot.as_ref() {
                     Some(old) => built.start_from(geometry, old, scalpel)?,
                     None => false,

@@ -6,7 +6,8 @@
 use serde::{Deserialize, Serialize};
 
 /// An equilibrium of a topology of the same pattern at an earlier blade position, under its
-/// load: a point of the path a blade advance's start is extrapolated along.
+/// load (or one carried onto this pattern's mesh from the previous pattern's): a point of
+/// the path a blade advance's start is extrapolated along.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Station {
     pub front: f64,
@@ -14,7 +15,6 @@ pub struct Station {
     pub u: Vec<f64>,
     /// Whether it was carried from another pattern's mesh: kept only until the pattern has
     /// two equilibria of its own.
-    #[serde(default)]
     pub carried: bool,
 }
 

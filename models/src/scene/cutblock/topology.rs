@@ -45,7 +45,8 @@ pub struct Topology {
     /// The solver and the last equilibrium.
     pub eq: Equilibrium,
     /// The finite-strain laws: equilibria of this pattern at earlier blade positions, the
-    /// latest last (at most `PATH_POINTS` − 1; [`Self::start_from`]).
+    /// latest last (at most `PATH_POINTS` − 1; [`Self::start_from`]), the first of them
+    /// carried from the previous pattern's mesh after a mesh change ([`Self::carried_path`]).
     pub path: Vec<Station>,
     /// The cut mesh and its quadratic one (tet10): moved, not made anew, for the next
     /// front within the cell ([`Geometry::moved_cut`]).
@@ -268,9 +269,9 @@ impl Topology {
     /// this front ([`continue_path`]) where there are two or three of them — on this
     /// topology's nodes where it has that pattern, else carried onto this mesh from
     /// `from`'s slid to this front ([`Self::slid`], [`transfer`]); else from `from`'s
-    /// equilibrium carried onto this mesh. A topology of another pattern starts its path
-    /// with `from`'s equilibrium ([`Self::carried_path`]). Returns whether it started from
-    /// any.
+    /// equilibrium carried onto this mesh. A topology of another pattern started along the
+    /// path starts its own with `from`'s equilibrium ([`Self::carried_path`]). Returns
+    /// whether it started from any.
     pub fn start_from(
         &mut self,
         g: &Geometry,
@@ -288,6 +289,7 @@ impl Topology {
         };
         let (start, path) = continue_path(&from.path, latest, self.front);
         let same_pattern = Arc::ptr_eq(&self.asm, &from.asm);
+        let along_path = start.is_some();
         let carried = match start {
             Some(u) if same_pattern => Some(u),
             // The path's extrapolation lies on `from`'s mesh slid to this front (the last
@@ -299,10 +301,12 @@ impl Topology {
             None => None,
         }
         .or_else(|| transfer(&from.solid, &from.eq.u, &self.solid, g.y_cut));
-        self.path = if same_pattern {
-            path
-        } else {
-            self.carried_path(g, from)
+        self.path = match (same_pattern, along_path) {
+            (true, _) => path,
+            (false, true) => self.carried_path(g, from),
+            // A jump of the blade beyond the path's reach: its mesh slid back that far
+            // would read most of the field off an end face.
+            (false, false) => Vec::new(),
         };
         let Some(u) = carried else {
             return Ok(false);

@@ -4,7 +4,8 @@
 //! new front on the old mesh slid there ([`super::path`]), or the last equilibrium; and
 //! the last equilibrium onto the new mesh slid back, the new pattern's path.
 //!
-//! Each node of the new mesh takes the old displacement field at its reference position:
+//! Each node of the new mesh takes the old displacement field at its reference position
+//! (clamped to the old mesh's extent in x):
 //! the old element that contains the point is found through a grid of the old mesh's node
 //! planes, and the field is evaluated with that element's shape functions (linear or
 //! quadratic). A node on the cut plane that belongs to one flank reads the field from the
