@@ -2,7 +2,7 @@
 //! blade position, cut length, reaction, opening, bottom lift, and the step's time (s),
 //! Newton iterations and factorizations per step; then the largest change of the reaction
 //! per step against the mean change, and the steps' median and longest time and their
-//! iterations and factorizations.
+//! iterations, factorizations and returns to the unloaded block.
 //!
 //! `cargo run --release -p models --example blade_path -- [PULL] [STEP] [MATERIAL] [ELEMENT]
 //! [REFINE] [FROM]` (defaults: 10 mm, 0.5 mm, neo-hookean, tet4, 1, 0 mm: the blade starts
@@ -68,12 +68,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let done = s.work();
     if let Some(longest) = times.last() {
         eprintln!(
-            "steps: median {:.3} s, longest {:.3} s, all {:.1} s; {} Newton iterations, {} factorizations",
+            "steps: median {:.3} s, longest {:.3} s, all {:.1} s; {} Newton iterations, {} factorizations, {} returns to the unloaded block",
             times[times.len() / 2],
             longest,
             times.iter().sum::<f64>(),
             done.iterations - total.iterations,
-            done.factorizations - total.factorizations
+            done.factorizations - total.factorizations,
+            done.restarts - total.restarts
         );
     }
     for w in s.take_warnings() {

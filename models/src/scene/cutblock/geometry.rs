@@ -318,6 +318,25 @@ impl Geometry {
         (planes, (self.cells_x + at) % 2 == 1)
     }
 
+    /// Whether moving the front from `from` to `to` within a cell leaves the cell at an end
+    /// face narrower than the move: a node plane approaching that face by the move
+    /// ([`Self::x_planes`]). A start extrapolated along each node's path
+    /// (`path::extrapolate`) strains that cell by the error of the difference of its two
+    /// planes' displacements divided by its width, which can invert a sliver (the accurate
+    /// setting at a 10 mm pull: from 52 to 53 mm and from 93 to 94 mm, the 0.096 and 0.032
+    /// mm cells left at the far face by the planes at 99.904 and 99.968 mm).
+    pub fn leaves_a_sliver(&self, from: f64, to: f64) -> bool {
+        let end_cells = |front: f64| {
+            let (p, _) = self.x_planes(front);
+            [p[1] - p[0], p[p.len() - 1] - p[p.len() - 2]]
+        };
+        let step = (to - from).abs();
+        end_cells(to)
+            .iter()
+            .zip(end_cells(from))
+            .any(|(&width, before)| width < before && width < step)
+    }
+
     /// The block cut up to `front` made from `previous`, the block cut up to `from`, by
     /// moving its nodes, where both fronts lie within one cell: the same number of x
     /// planes, the front on the same one, the layers split alike — the connectivity
@@ -471,6 +490,26 @@ mod tests {
         assert_eq!(g.front(SNAP * h * 1.1), SNAP * h * 1.1);
         assert_eq!(g.front(100.0 - SNAP * h * 0.9), 100.0);
         assert_eq!(g.front(250.0), 100.0);
+    }
+
+    /// A move of the front leaves a sliver where the cell at an end face it approaches ends
+    /// narrower than the move (h = 16.67 mm): towards the far face from 82 to 83 mm
+    /// (1.333 → 0.333 mm) or from 82.6 mm (0.733 → 0.333 mm against 0.4), towards the near
+    /// face from 18 to 17 mm; not where that cell stays as wide as the move (81 → 82 mm:
+    /// 1.333 mm; 82 → 82.5 mm: 0.833 mm) or widens (83 → 82 mm).
+    #[test]
+    fn a_move_towards_an_end_face_leaves_a_sliver_where_its_cell_ends_narrower() {
+        let g = default_block(1.0);
+        for (from, to, sliver) in [
+            (82.0, 83.0, true),
+            (82.6, 83.0, true),
+            (18.0, 17.0, true),
+            (81.0, 82.0, false),
+            (82.0, 82.5, false),
+            (83.0, 82.0, false),
+        ] {
+            assert_eq!(g.leaves_a_sliver(from, to), sliver, "{from} → {to}");
+        }
     }
 
     /// Within a cell the block cut up to a front is the block cut up to another front with

@@ -515,27 +515,14 @@ impl CutBlock {
                         spare,
                     )
                 })?;
-                // A finite-strain law starts from its path extrapolated or the last
-                // equilibrium, carried onto the new mesh where it changed
-                // (`Topology::start_from`), and from the unloaded block if that does not
-                // converge.
-                let warm = match slot.as_ref() {
-                    Some(old) => built.start_from(geometry, old, scalpel)?,
-                    None => false,
-                };
-                if let Err(e) = built.solve(geometry, pull, press, scalpel) {
-                    if !warm {
-                        return Err(e);
-                    }
-                    built.unload(geometry, scalpel)?;
-                    built.solve(geometry, pull, press, scalpel)?;
-                }
+                let unloaded = built.solve_after(geometry, slot.as_ref(), pull, press, scalpel)?;
                 if let Some(old) = slot.replace(built) {
                     self.work = self.work + old.eq.work;
                     self.timing = self.timing + old.eq.timing;
                     self.spare = slot.as_ref().and_then(|new| old.into_spare(new));
                 }
                 self.work.topology_builds += 1;
+                self.work.restarts += u64::from(unloaded);
             }
         }
         self.reached = reached;

@@ -263,16 +263,46 @@ impl Topology {
         Ok(())
     }
 
+    /// Solves this new topology for the pull (mm) and the press force (N) at the scalpel
+    /// position ([`Self::solve`]), a finite-strain law started from `from`'s path
+    /// extrapolated or its last equilibrium, carried onto this mesh where it changed
+    /// ([`Self::start_from`]), and from the unloaded block if that does not converge.
+    /// Returns whether it went back to the unloaded block.
+    pub fn solve_after(
+        &mut self,
+        g: &Geometry,
+        from: Option<&Topology>,
+        pull: f64,
+        press: f64,
+        scalpel_x: f64,
+    ) -> Result<bool, SceneError> {
+        let warm = match from {
+            Some(from) => self.start_from(g, from, scalpel_x)?,
+            None => false,
+        };
+        match self.solve(g, pull, press, scalpel_x) {
+            Err(e) if !warm => Err(e),
+            Err(_) => {
+                let (on, eq) = self.parts();
+                eq.unload(&on, g, scalpel_x)?;
+                self.solve(g, pull, press, scalpel_x)?;
+                Ok(true)
+            }
+            Ok(()) => Ok(false),
+        }
+    }
+
     /// Starts the next solve, for the finite-strain laws (the linear law solves directly and
     /// needs no start), under `from`'s load: from the equilibria of `from`'s pattern at
     /// earlier blade positions under that load, `from`'s own the latest, extrapolated to
     /// this front ([`continue_path`]) where there are two or three of them — on this
-    /// topology's nodes where it has that pattern, else carried onto this mesh from
-    /// `from`'s slid to this front ([`Self::slid`], [`transfer`]); else from `from`'s
-    /// equilibrium carried onto this mesh. A topology of another pattern started along the
-    /// path starts its own with `from`'s equilibrium ([`Self::carried_path`]). Returns
-    /// whether it started from any.
-    pub fn start_from(
+    /// topology's nodes where it has that pattern, else (or where the move leaves a sliver
+    /// at an end face, [`Geometry::leaves_a_sliver`]) carried onto this mesh from `from`'s
+    /// slid to this front ([`Self::slid`], [`transfer`]); else from `from`'s equilibrium
+    /// carried onto this mesh. A topology of another pattern started along the path starts
+    /// its own with `from`'s equilibrium ([`Self::carried_path`]). Returns whether it
+    /// started from any.
+    fn start_from(
         &mut self,
         g: &Geometry,
         from: &Topology,
@@ -289,9 +319,10 @@ impl Topology {
         };
         let (start, path) = continue_path(&from.path, latest, self.front);
         let same_pattern = Arc::ptr_eq(&self.asm, &from.asm);
+        let on_nodes = same_pattern && !g.leaves_a_sliver(from.front, self.front);
         let along_path = start.is_some();
         let carried = match start {
-            Some(u) if same_pattern => Some(u),
+            Some(u) if on_nodes => Some(u),
             // The path's extrapolation lies on `from`'s mesh slid to this front (the last
             // equilibrium carried over where that mesh or the transfer cannot be made).
             Some(u) => from
@@ -368,12 +399,6 @@ impl Topology {
             Some(q) => Solid::quadratic(&q.moved(&mesh), self.solid.material),
             None => Solid::linear(&mesh, self.solid.material),
         })
-    }
-
-    /// Back to the unloaded block (after a start from another mesh that did not converge).
-    pub fn unload(&mut self, g: &Geometry, scalpel_x: f64) -> Result<(), SceneError> {
-        let (on, eq) = self.parts();
-        eq.unload(&on, g, scalpel_x)
     }
 }
 

@@ -22,6 +22,9 @@ pub struct Work {
     /// Solves of the scene for its current loads: one per initialization and step that
     /// succeeded.
     pub solves: u64,
+    /// Solves of a new topology that went back to the unloaded block after the start from
+    /// the previous one's equilibria did not converge (finite-strain laws).
+    pub restarts: u64,
     /// Newton load increments that converged (finite-strain laws).
     pub increments: u64,
     /// Newton iterations (corrections Δu) of the converged increments, summed (finite-strain
@@ -51,6 +54,7 @@ impl std::ops::Add for Work {
             analyses: self.analyses + other.analyses,
             factorizations: self.factorizations + other.factorizations,
             solves: self.solves + other.solves,
+            restarts: self.restarts + other.restarts,
             increments: self.increments + other.increments,
             iterations: self.iterations + other.iterations,
         }
