@@ -74,7 +74,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             times.iter().sum::<f64>(),
             done.iterations - total.iterations,
             done.factorizations - total.factorizations,
-            done.restarts - total.restarts
+            done.returns_to_unloaded - total.returns_to_unloaded
         );
     }
     for w in s.take_warnings() {

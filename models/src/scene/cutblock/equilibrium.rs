@@ -403,7 +403,8 @@ impl Equilibrium {
         Ok(())
     }
 
-    /// Back to the unloaded block (after a start from another mesh that did not converge).
+    /// Back to the unloaded block (after a start from the previous topology's equilibria that
+    /// did not converge).
     pub fn unload(&mut self, on: &On<'_>, g: &Geometry, scalpel_x: f64) -> Result<(), SceneError> {
         self.u.fill(0.0);
         self.internal.fill(0.0);

@@ -167,6 +167,14 @@ fn layer_ratio(planes: &[f64], target: f64) -> f64 {
 /// three times as long as on the uniform cells (BENCHMARKS.md, "The snap distance").
 pub const SNAP: f64 = 1e-5;
 
+/// A cell at an end face narrower than this fraction of a move of the front within a cell
+/// is a sliver the start on the nodes may invert ([`Geometry::leaves_a_sliver`]). Measured
+/// along the accurate setting's blade path in 1 mm advances (BENCHMARKS.md, "Slivers at the
+/// end faces"): the 0.032–0.14 mm cells at 53, 85 and 94 mm took 10–11 Newton iterations
+/// started on the slid mesh against 18–25 on the nodes, the 0.745 mm one at 98 mm 14
+/// against 8; with 1 instead of 0.5 the default's path took 427 iterations instead of 424.
+const SLIVER_FRACTION: f64 = 0.5;
+
 /// Below this ratio of adjacent layer thicknesses at the cut, the scene warns that the mesh
 /// there is too anisotropic for its results to be trusted.
 pub const SLIVER_RATIO: f64 = 0.25;
@@ -319,22 +327,19 @@ impl Geometry {
     }
 
     /// Whether moving the front from `from` to `to` within a cell leaves the cell at an end
-    /// face narrower than the move: a node plane approaching that face by the move
-    /// ([`Self::x_planes`]). A start extrapolated along each node's path
-    /// (`path::extrapolate`) strains that cell by the error of the difference of its two
-    /// planes' displacements divided by its width, which can invert a sliver (the accurate
-    /// setting at a 10 mm pull: from 52 to 53 mm and from 93 to 94 mm, the 0.096 and 0.032
-    /// mm cells left at the far face by the planes at 99.904 and 99.968 mm).
+    /// face narrower than `SLIVER_FRACTION` times the move: a node plane approaching that face by
+    /// the move ([`Self::x_planes`]) narrows the cell to less than a third of its width. A
+    /// start extrapolated along each node's path (`path::extrapolate`) strains that cell by
+    /// the error of the difference of its two planes' displacements divided by its width,
+    /// which can invert a sliver (the accurate setting at a 10 mm pull: from 52 to 53 mm and
+    /// from 93 to 94 mm, the 0.096 and 0.032 mm cells left at the far face by the planes at
+    /// 99.904 and 99.968 mm). The cell at the face the front moves away from widens.
     pub fn leaves_a_sliver(&self, from: f64, to: f64) -> bool {
-        let end_cells = |front: f64| {
-            let (p, _) = self.x_planes(front);
-            [p[1] - p[0], p[p.len() - 1] - p[p.len() - 2]]
-        };
-        let step = (to - from).abs();
-        end_cells(to)
+        let (p, _) = self.x_planes(to);
+        let end_cells = [p[1] - p[0], p[p.len() - 1] - p[p.len() - 2]];
+        end_cells
             .iter()
-            .zip(end_cells(from))
-            .any(|(&width, before)| width < before && width < step)
+            .any(|&width| width < SLIVER_FRACTION * (to - from).abs())
     }
 
     /// The block cut up to `front` made from `previous`, the block cut up to `from`, by
@@ -492,23 +497,48 @@ mod tests {
         assert_eq!(g.front(250.0), 100.0);
     }
 
-    /// A move of the front leaves a sliver where the cell at an end face it approaches ends
-    /// narrower than the move (h = 16.67 mm): towards the far face from 82 to 83 mm
-    /// (1.333 → 0.333 mm) or from 82.6 mm (0.733 → 0.333 mm against 0.4), towards the near
-    /// face from 18 to 17 mm; not where that cell stays as wide as the move (81 → 82 mm:
-    /// 1.333 mm; 82 → 82.5 mm: 0.833 mm) or widens (83 → 82 mm).
+    /// A move of the front leaves a sliver where the cell at an end face ends narrower than
+    /// half the move. Uniform (h = 16.67 mm): towards the far face from 82 to 83 mm (0.333
+    /// mm) and from 82.5 to 83.2 mm (0.133 mm against 0.35), towards the near face from 18
+    /// to 17 mm; not from 82.8 to 83 mm (0.333 mm against 0.1), 81 → 82 mm (1.333 mm),
+    /// 82 → 82.5 mm (0.833 mm), nor away from the face (83 → 82 mm: 1.333 mm there, 15.33
+    /// mm at the other face). The accurate setting (7 cells, β = 2.25): 52 → 53, 84 → 85 and
+    /// 93 → 94 mm (0.096, 0.139, 0.032 mm at the far face), not 97 → 98 mm (0.745 mm) nor
+    /// 51 → 52 mm (1.096 mm).
     #[test]
     fn a_move_towards_an_end_face_leaves_a_sliver_where_its_cell_ends_narrower() {
-        let g = default_block(1.0);
-        for (from, to, sliver) in [
-            (82.0, 83.0, true),
-            (82.6, 83.0, true),
-            (18.0, 17.0, true),
-            (81.0, 82.0, false),
-            (82.0, 82.5, false),
-            (83.0, 82.0, false),
-        ] {
-            assert_eq!(g.leaves_a_sliver(from, to), sliver, "{from} → {to}");
+        let uniform = default_block(1.0);
+        let accurate = Geometry::new(
+            [100.0, 80.0, 17.0],
+            [7, 18, 10],
+            45.0,
+            8.5,
+            5.0,
+            2.25,
+            uniform.options,
+        )
+        .unwrap();
+        // (from, to) pairs of moves that leave a sliver and of moves that do not.
+        let cases: [(&Geometry, &[f64], &[f64]); 2] = [
+            (
+                &uniform,
+                &[82.0, 83.0, 82.5, 83.2, 18.0, 17.0],
+                &[82.8, 83.0, 81.0, 82.0, 82.0, 82.5, 83.0, 82.0],
+            ),
+            (
+                &accurate,
+                &[52.0, 53.0, 84.0, 85.0, 93.0, 94.0],
+                &[97.0, 98.0, 51.0, 52.0],
+            ),
+        ];
+        for (g, slivers, others) in cases {
+            for (moves, sliver) in [(slivers, true), (others, false)] {
+                for m in moves.chunks(2) {
+                    let grading = g.grading;
+                    let message = format!("β {grading}: {} → {}", m[0], m[1]);
+                    assert_eq!(g.leaves_a_sliver(m[0], m[1]), sliver, "{message}");
+                }
+            }
         }
     }
 

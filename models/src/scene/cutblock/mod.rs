@@ -522,7 +522,7 @@ impl CutBlock {
                     self.spare = slot.as_ref().and_then(|new| old.into_spare(new));
                 }
                 self.work.topology_builds += 1;
-                self.work.restarts += u64::from(unloaded);
+                self.work.returns_to_unloaded += u64::from(unloaded);
             }
         }
         self.reached = reached;

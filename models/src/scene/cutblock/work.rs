@@ -1,5 +1,6 @@
 //! What the cut block has done: its rebuilds, analyses, factorizations and solves, and for
-//! the finite-strain laws the Newton increments and iterations ([`Work`], part of the
+//! the finite-strain laws the returns to the unloaded block and the Newton increments and
+//! iterations ([`Work`], part of the
 //! scene's state) and where their time went ([`Timing`], a measurement: neither saved nor
 //! compared, so that the states of identical runs are identical bytes).
 
@@ -7,7 +8,8 @@ use std::time::Duration;
 
 /// What the scene has done so far: how often it rebuilt the topology (and of those, made a
 /// new pattern and symbolic analysis), refactorized and solved, and for the finite-strain
-/// laws the Newton increments and iterations.
+/// laws how often a solve went back to the unloaded block, and the Newton increments and
+/// iterations.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Work {
     /// Topologies (cut mesh, pattern and solver) built: at initialization and each time the
@@ -24,7 +26,7 @@ pub struct Work {
     pub solves: u64,
     /// Solves of a new topology that went back to the unloaded block after the start from
     /// the previous one's equilibria did not converge (finite-strain laws).
-    pub restarts: u64,
+    pub returns_to_unloaded: u64,
     /// Newton load increments that converged (finite-strain laws).
     pub increments: u64,
     /// Newton iterations (corrections Δu) of the converged increments, summed (finite-strain
@@ -54,7 +56,7 @@ impl std::ops::Add for Work {
             analyses: self.analyses + other.analyses,
             factorizations: self.factorizations + other.factorizations,
             solves: self.solves + other.solves,
-            restarts: self.restarts + other.restarts,
+            returns_to_unloaded: self.returns_to_unloaded + other.returns_to_unloaded,
             increments: self.increments + other.increments,
             iterations: self.iterations + other.iterations,
         }
