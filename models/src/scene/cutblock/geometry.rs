@@ -327,13 +327,14 @@ impl Geometry {
     }
 
     /// Whether moving the front from `from` to `to` within a cell leaves the cell at an end
-    /// face narrower than `SLIVER_FRACTION` times the move: a node plane approaching that face by
-    /// the move ([`Self::x_planes`]) narrows the cell to less than a third of its width. A
-    /// start extrapolated along each node's path (`path::extrapolate`) strains that cell by
-    /// the error of the difference of its two planes' displacements divided by its width,
-    /// which can invert a sliver (the accurate setting at a 10 mm pull: from 52 to 53 mm and
-    /// from 93 to 94 mm, the 0.096 and 0.032 mm cells left at the far face by the planes at
-    /// 99.904 and 99.968 mm). The cell at the face the front moves away from widens.
+    /// face narrower than `SLIVER_FRACTION` times the move: a node plane approaching that
+    /// face by the move ([`Self::x_planes`]) narrows the cell to less than a third of its
+    /// width. A start extrapolated along each node's path (`path::extrapolate`) strains that
+    /// cell by the error of the difference of its two planes' displacements divided by its
+    /// width, which can invert a sliver (the accurate setting at a 10 mm pull: from 52 to 53
+    /// mm and from 93 to 94 mm, the 0.096 and 0.032 mm cells left at the far face by the
+    /// planes at 99.904 and 99.968 mm). The cell at the face the front moves away from
+    /// widens.
     pub fn leaves_a_sliver(&self, from: f64, to: f64) -> bool {
         let (p, _) = self.x_planes(to);
         let end_cells = [p[1] - p[0], p[p.len() - 1] - p[p.len() - 2]];

@@ -515,14 +515,13 @@ impl CutBlock {
                         spare,
                     )
                 })?;
-                let unloaded = built.solve_after(geometry, slot.as_ref(), pull, press, scalpel)?;
+                built.solve_after(geometry, slot.as_ref(), pull, press, scalpel)?;
                 if let Some(old) = slot.replace(built) {
                     self.work = self.work + old.eq.work;
                     self.timing = self.timing + old.eq.timing;
                     self.spare = slot.as_ref().and_then(|new| old.into_spare(new));
                 }
                 self.work.topology_builds += 1;
-                self.work.returns_to_unloaded += u64::from(unloaded);
             }
         }
         self.reached = reached;

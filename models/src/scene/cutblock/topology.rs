@@ -266,8 +266,8 @@ impl Topology {
     /// Solves this new topology for the pull (mm) and the press force (N) at the scalpel
     /// position ([`Self::solve`]), a finite-strain law started from `from`'s path
     /// extrapolated or its last equilibrium, carried onto this mesh where it changed
-    /// ([`Self::start_from`]), and from the unloaded block if that does not converge.
-    /// Returns whether it went back to the unloaded block.
+    /// ([`Self::start_from`]), and from the unloaded block if that does not converge
+    /// (counted in its work).
     pub fn solve_after(
         &mut self,
         g: &Geometry,
@@ -275,21 +275,21 @@ impl Topology {
         pull: f64,
         press: f64,
         scalpel_x: f64,
-    ) -> Result<bool, SceneError> {
+    ) -> Result<(), SceneError> {
         let warm = match from {
             Some(from) => self.start_from(g, from, scalpel_x)?,
             None => false,
         };
-        match self.solve(g, pull, press, scalpel_x) {
-            Err(e) if !warm => Err(e),
-            Err(_) => {
-                let (on, eq) = self.parts();
-                eq.unload(&on, g, scalpel_x)?;
-                self.solve(g, pull, press, scalpel_x)?;
-                Ok(true)
+        if let Err(e) = self.solve(g, pull, press, scalpel_x) {
+            if !warm {
+                return Err(e);
             }
-            Ok(()) => Ok(false),
+            let (on, eq) = self.parts();
+            eq.unload(&on, g, scalpel_x)?;
+            self.solve(g, pull, press, scalpel_x)?;
+            self.eq.work.returns_to_unloaded += 1;
         }
+        Ok(())
     }
 
     /// Starts the next solve, for the finite-strain laws (the linear law solves directly and
