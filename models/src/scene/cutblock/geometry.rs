@@ -171,8 +171,9 @@ pub const SNAP: f64 = 1e-5;
 /// is a sliver the start on the nodes may invert ([`Geometry::leaves_a_sliver`]). Measured
 /// along the accurate setting's blade path in 1 mm advances (BENCHMARKS.md, "Slivers at the
 /// end faces"): the 0.032–0.14 mm cells at 53, 85 and 94 mm took 10–11 Newton iterations
-/// started on the slid mesh against 18–25 on the nodes, the 0.745 mm one at 98 mm 14
-/// against 8; with 1 instead of 0.5 the default's path took 427 iterations instead of 424.
+/// started on the slid mesh against 18–25 on the nodes; with 1 instead of 0.5 the 0.745 mm
+/// one at 98 mm would be a sliver too, and took 14 against 8, and the default's path 427
+/// iterations instead of 424.
 const SLIVER_FRACTION: f64 = 0.5;
 
 /// Below this ratio of adjacent layer thicknesses at the cut, the scene warns that the mesh
@@ -327,14 +328,14 @@ impl Geometry {
     }
 
     /// Whether moving the front from `from` to `to` within a cell leaves the cell at an end
-    /// face narrower than `SLIVER_FRACTION` times the move: a node plane approaching that
-    /// face by the move ([`Self::x_planes`]) narrows the cell to less than a third of its
-    /// width. A start extrapolated along each node's path (`path::extrapolate`) strains that
-    /// cell by the error of the difference of its two planes' displacements divided by its
-    /// width, which can invert a sliver (the accurate setting at a 10 mm pull: from 52 to 53
-    /// mm and from 93 to 94 mm, the 0.096 and 0.032 mm cells left at the far face by the
-    /// planes at 99.904 and 99.968 mm). The cell at the face the front moves away from
-    /// widens.
+    /// face narrower than `SLIVER_FRACTION` times the move (a node plane approaching that
+    /// face by the move, [`Self::x_planes`], has then narrowed the cell to less than a third
+    /// of its width). A start extrapolated along each node's path (`path::extrapolate`)
+    /// strains that cell by the error of the difference of its two planes' displacements
+    /// divided by its width, which can invert a sliver (the accurate setting at a 10 mm
+    /// pull: from 52 to 53 mm and from 93 to 94 mm, the 0.096 and 0.032 mm cells left at the
+    /// far face by the planes at 99.904 and 99.968 mm). The cell at the face the front moves
+    /// away from widens.
     pub fn leaves_a_sliver(&self, from: f64, to: f64) -> bool {
         let (p, _) = self.x_planes(to);
         let end_cells = [p[1] - p[0], p[p.len() - 1] - p[p.len() - 2]];

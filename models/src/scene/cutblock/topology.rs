@@ -265,9 +265,9 @@ impl Topology {
 
     /// Solves this new topology for the pull (mm) and the press force (N) at the scalpel
     /// position ([`Self::solve`]), a finite-strain law started from `from`'s path
-    /// extrapolated or its last equilibrium, carried onto this mesh where it changed
-    /// ([`Self::start_from`]), and from the unloaded block if that does not converge
-    /// (counted in its work).
+    /// extrapolated or its last equilibrium, carried onto this mesh where it changed or a
+    /// sliver is left ([`Self::start_from`]), and from the unloaded block if that does not
+    /// converge (counted in its work).
     pub fn solve_after(
         &mut self,
         g: &Geometry,
