@@ -19,7 +19,8 @@ pub struct Work {
     /// (the others reused the previous topology's).
     pub analyses: u64,
     /// Numeric factorizations of the stiffness matrix (for the finite-strain laws, those of
-    /// failed Newton increments included).
+    /// Newton increments cut back within a solve included; a solve that fails as a whole,
+    /// e.g. from a start that is then given up for the unloaded block, reports none).
     pub factorizations: u64,
     /// Solves of the scene for its current loads: one per initialization and step that
     /// succeeded.
