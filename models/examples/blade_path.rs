@@ -68,11 +68,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let done = s.work();
     if let Some(longest) = times.last() {
         eprintln!(
-            "steps: median {:.3} s, longest {:.3} s, all {:.1} s; {} Newton iterations, {} factorizations, {} returns to the unloaded block",
+            "steps: median {:.3} s, longest {longest:.3} s, all {:.1} s",
             times[times.len() / 2],
-            longest,
             times.iter().sum::<f64>(),
+        );
+        eprintln!(
+            "{} Newton iterations (and {} in increments that failed), {} factorizations, \
+             {} returns to the unloaded block",
             done.iterations - total.iterations,
+            done.failed_iterations - total.failed_iterations,
             done.factorizations - total.factorizations,
             done.returns_to_unloaded - total.returns_to_unloaded
         );

@@ -17,6 +17,13 @@ pub trait InternalForces: Send + Sync {
     /// next evaluations are made (0 the last equilibrium's load, 1 the target): for bodies
     /// whose own forces follow the load, such as an active tension. Others ignore it.
     fn at_load_fraction(&self, _s: f64) {}
+
+    /// Whether the forces change along the load fraction ([`Self::at_load_fraction`]), so
+    /// that a solve at unchanged prescribed values and external forces still changes its
+    /// equations along its increments.
+    fn follow_the_load(&self) -> bool {
+        false
+    }
 }
 
 /// Internal forces element by element: the sum over the elements, scattered to their dofs,

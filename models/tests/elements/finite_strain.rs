@@ -3,12 +3,13 @@
 //! deformations: uniaxial stretch with free lateral contraction, and a rigid rotation.
 
 use models::assembly::tetrahedra::{Body, Solid, Tetrahedron};
-use models::assembly::Assembler;
+use models::assembly::{Assembler, InternalForces};
 use models::element::{Elastic, Law, Material};
 use models::error::ModelError;
 use models::linalg::{Factorization, Ordering};
 use models::mesh::generate;
 use models::solve::newton::{Newton, Report, Settings};
+use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
 const SIZE: [f64; 3] = [2.0, 3.0, 1.5];
 const E: f64 = 0.05;
@@ -239,6 +240,112 @@ fn a_failed_solve_names_the_load_reached_and_keeps_the_state() {
     assert!(matches!(e, ModelError::NotConverged { .. }), "{e}");
     assert!(e.to_string().contains("% of the load change"), "{e}");
     assert_eq!(u, before);
+}
+
+/// A start that does not converge at an unchanged load (the equilibrium of a 30 % stretch
+/// with its lateral displacements 10 % off, given two iterations) is retried once, on a
+/// fresh factorization since it failed on the kept one, and not cut back further — its
+/// halves would be the same problem; the solve then goes on from the last equilibrium,
+/// converged there at once. The report counts the failed attempts' iterations: 2 × 2.
+#[test]
+fn a_start_that_fails_at_an_unchanged_load_is_retried_once_and_counted() {
+    let (solid, asm) = block(Tetrahedron::Tet10, Law::NeoHookean);
+    let (fixed, prescribed, _) = sliding(&solid, 0.3 * SIZE[1]);
+    let mut newton = supernodal_newton(&asm, &fixed, Settings::default());
+    let mut u = vec![0.0; solid.n_dofs()];
+    pull(&mut newton, &solid, &asm, &mut u, &prescribed).unwrap();
+    let equilibrium = u.clone();
+    let start: Vec<f64> = u
+        .iter()
+        .enumerate()
+        .map(|(d, v)| if d % 3 == 1 { *v } else { 1.1 * v })
+        .collect();
+    let max_iterations = 2;
+    let settings = Settings {
+        max_iterations,
+        ..Settings::default()
+    };
+    newton.set_settings(settings).unwrap();
+    let zero = vec![0.0; solid.n_dofs()];
+    let body = Body {
+        solid: &solid,
+        asm: &asm,
+    };
+    let report = newton
+        .solve_from(&body, &mut u, &start, &prescribed, &zero)
+        .unwrap();
+    assert_eq!(report.cutbacks, 1, "{report:?}");
+    assert_eq!(report.failed_iterations, 2 * max_iterations, "{report:?}");
+    assert_eq!(report.iterations, [0], "{report:?}");
+    assert_eq!(u, equilibrium);
+}
+
+/// A body pulled by forces of its own that follow the load: `force` along y on each of the
+/// `nodes`, times the load fraction s of the solve (as the abdomen's diaphragm tension
+/// follows its activation), declared as following the load or not.
+struct Following<'a> {
+    body: Body<'a>,
+    nodes: Vec<usize>,
+    force: f64,
+    s: AtomicU64,
+    declared: bool,
+}
+
+impl InternalForces for Following<'_> {
+    fn at_load_fraction(&self, s: f64) {
+        self.s.store(s.to_bits(), Relaxed);
+    }
+
+    fn follow_the_load(&self) -> bool {
+        self.declared
+    }
+
+    fn internal(&self, u: &[f64], f: &mut [f64], k: Option<&mut [f64]>) -> Result<(), ModelError> {
+        self.body.internal(u, f, k)?;
+        let s = f64::from_bits(self.s.load(Relaxed));
+        for n in &self.nodes {
+            f[3 * n + 1] -= s * self.force;
+        }
+        Ok(())
+    }
+}
+
+/// A solve whose prescribed values and external forces stay put but whose own forces follow
+/// the load (a stretch of about 40 % by forces that grow along the load fraction, five
+/// iterations per increment) is still cut back, and converges; the same solve with the
+/// forces not declared as following the load is taken in one increment, which fails.
+#[test]
+fn forces_that_follow_the_load_are_cut_back_at_an_unchanged_load() {
+    let (solid, asm) = block(Tetrahedron::Tet4, Law::NeoHookean);
+    let (mut fixed, _, pulled) = sliding(&solid, 0.0);
+    let pulled_y: Vec<usize> = pulled.iter().map(|n| 3 * n + 1).collect();
+    fixed.retain(|d| !pulled_y.contains(d));
+    let (_, stress) = uniaxial(Law::NeoHookean, 1.4);
+    let force = stress * SIZE[0] * SIZE[2] / pulled.len() as f64;
+    let settings = Settings {
+        max_iterations: 5,
+        ..Settings::default()
+    };
+    let zero = vec![0.0; solid.n_dofs()];
+    let solve = |declared: bool| {
+        let body = Following {
+            body: Body {
+                solid: &solid,
+                asm: &asm,
+            },
+            nodes: pulled.clone(),
+            force,
+            s: AtomicU64::new(0),
+            declared,
+        };
+        let mut newton = supernodal_newton(&asm, &fixed, settings);
+        let mut u = vec![0.0; solid.n_dofs()];
+        newton.solve(&body, &mut u, &zero, &zero).cloned()
+    };
+    let report = solve(true).unwrap();
+    assert!(report.cutbacks >= 1, "{report:?}");
+    let e = solve(false).unwrap_err();
+    assert!(matches!(e, ModelError::NotConverged { .. }), "{e}");
 }
 
 /// Modified Newton (the factorization kept while the residual falls by 10× per iteration)

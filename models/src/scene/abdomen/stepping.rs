@@ -246,6 +246,10 @@ impl InternalForces for Contracting {
         self.tension.set(self.from + s * (self.to - self.from));
     }
 
+    fn follow_the_load(&self) -> bool {
+        self.from != self.to
+    }
+
     fn internal(&self, u: &[f64], f: &mut [f64], k: Option<&mut [f64]>) -> Result<(), ModelError> {
         self.body.internal(u, f, k)
     }

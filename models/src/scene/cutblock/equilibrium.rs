@@ -481,20 +481,26 @@ impl Equilibrium {
                 mul_add(on.asm.matrix(k_base), &self.u, 1.0, &mut self.internal);
             }
             Solver::Newton(n) => {
-                let report = match start {
-                    Some(start) => {
-                        n.solve_from(on, &mut self.u, &start, &self.prescribed, &self.f)?
-                    }
-                    None => n.solve(on, &mut self.u, &self.prescribed, &self.f)?,
+                let solved = match start {
+                    Some(start) => n
+                        .solve_from(on, &mut self.u, &start, &self.prescribed, &self.f)
+                        .map(drop),
+                    None => n
+                        .solve(on, &mut self.u, &self.prescribed, &self.f)
+                        .map(drop),
                 };
+                // Counted whether it converged or not.
+                let report = n.report();
                 let w = &mut self.work;
                 w.factorizations += report.factorizations as u64;
                 w.increments += report.iterations.len() as u64;
                 w.iterations += report.iterations.iter().sum::<usize>() as u64;
+                w.failed_iterations += report.failed_iterations as u64;
                 let t = &mut self.timing;
                 t.assembly += report.assembly;
                 t.factorization += report.factorization;
                 t.solve += report.solve;
+                solved?;
                 self.internal.copy_from_slice(n.internal_forces());
             }
         }

@@ -497,6 +497,49 @@ mod tests {
         (extrapolated, start(old))
     }
 
+    /// An advance whose start fails (the previous equilibrium's free displacements reversed
+    /// and five times as large under the 10 mm pull) fails in its first iteration, on the
+    /// tangent factorized there, and is not cut back (at an unchanged load its halves would
+    /// repeat it: 8 times before); the advance goes back to the unloaded block, counts that
+    /// return, and reaches what a topology solved from the unloaded block reaches, with that
+    /// one failed iteration and factorization counted besides the same work.
+    #[test]
+    fn an_advance_whose_start_fails_solves_from_the_unloaded_block() {
+        let mut s = CutBlock::new();
+        s.initialize(0.0).unwrap();
+        s.set("pull", 10.0).unwrap();
+        s.set("scalpel_x", 37.0).unwrap();
+        s.do_step(0.0, 1.0).unwrap();
+        let settings =
+            super::super::equilibrium::settings(Tetrahedron::Tet4, s.values.real(MAX_INCREMENT));
+        let (g, old) = (s.geometry.as_ref().unwrap(), s.topology.as_mut().unwrap());
+        old.path.clear();
+        old.eq.u.iter_mut().for_each(|u| *u *= -5.0);
+        let (m, kind) = (old.material(), Tetrahedron::Tet4);
+        let solved = |from: Option<&Topology>| {
+            let mut t = Topology::build(g, 38.0, m, kind, settings, from, None).unwrap();
+            t.solve_after(g, from, 10.0, 0.0, 38.0).unwrap();
+            t
+        };
+        let (warm, cold) = (solved(Some(old)), solved(None));
+        let (w, c) = (warm.eq.work, cold.eq.work);
+        assert_eq!((w.returns_to_unloaded, c.returns_to_unloaded), (1, 0));
+        assert_eq!(w.iterations, c.iterations);
+        assert_eq!(
+            (w.failed_iterations, w.factorizations),
+            (1, c.factorizations + 1),
+            "{w:?} against {c:?}"
+        );
+        let size = crate::solve::newton::max_abs(&cold.eq.u);
+        let diff = warm
+            .eq
+            .u
+            .iter()
+            .zip(&cold.eq.u)
+            .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+        assert!(diff <= 1e-9 * size, "{diff:e} of {size}");
+    }
+
     /// The quadratic through three equilibria follows the path to third order in the step
     /// (the mesh moves affinely with the blade, so each node's displacement is a smooth
     /// function of it), the last equilibrium carried onto the new mesh to first order (it

@@ -1,6 +1,6 @@
 //! What the cut block has done: its rebuilds, analyses, factorizations and solves, and for
 //! the finite-strain laws the returns to the unloaded block and the Newton increments and
-//! iterations ([`Work`], part of the scene's state), and where the Newton solves' time went
+//! iterations (those that failed apart) ([`Work`], part of the scene's state), and where the Newton solves' time went
 //! ([`Timing`], a measurement: neither saved nor compared, so that the states of identical
 //! runs are identical bytes).
 
@@ -19,8 +19,8 @@ pub struct Work {
     /// (the others reused the previous topology's).
     pub analyses: u64,
     /// Numeric factorizations of the stiffness matrix (for the finite-strain laws, those of
-    /// Newton increments cut back within a solve included; a solve that fails as a whole,
-    /// e.g. from a start that is then given up for the unloaded block, reports none).
+    /// the Newton increments that failed included: cut back, or of a start given up for the
+    /// unloaded block).
     pub factorizations: u64,
     /// Solves of the scene for its current loads: one per initialization and step that
     /// succeeded.
@@ -33,6 +33,9 @@ pub struct Work {
     /// Newton iterations (corrections Δu) of the converged increments, summed (finite-strain
     /// laws).
     pub iterations: u64,
+    /// Newton iterations of the increments that failed (cut back, or of a start given up),
+    /// summed (finite-strain laws).
+    pub failed_iterations: u64,
 }
 
 /// Where the Newton solves' time went so far (finite-strain laws).
@@ -60,6 +63,7 @@ impl std::ops::Add for Work {
             returns_to_unloaded: self.returns_to_unloaded + other.returns_to_unloaded,
             increments: self.increments + other.increments,
             iterations: self.iterations + other.iterations,
+            failed_iterations: self.failed_iterations + other.failed_iterations,
         }
     }
 }

@@ -176,6 +176,8 @@ pub struct Iteration {
     anderson: Anderson,
     /// ‖r‖ / scale at each iterate of the last run.
     pub residuals: Vec<f64>,
+    /// Iterations of the last run, converged or not.
+    pub taken: usize,
 }
 
 impl Iteration {
@@ -187,6 +189,7 @@ impl Iteration {
             trial: vec![0.0; n],
             anderson: Anderson::new(n),
             residuals: Vec::with_capacity(max_iterations + 1),
+            taken: 0,
         }
     }
 
@@ -217,6 +220,7 @@ impl Iteration {
         start_step: f64,
     ) -> Result<usize, Failure> {
         self.residuals.clear();
+        self.taken = 0;
         // Another start is another map: the steps of earlier runs do not combine.
         self.anderson.reset();
         let (mut norm, mut scale) = system.residual(x, &mut self.r).map_err(Failure::Model)?;
@@ -230,6 +234,7 @@ impl Iteration {
         // descent).
         let mut exact = false;
         for iteration in 1..=settings.max_iterations {
+            self.taken = iteration;
             let fresh = !system.factorized() || contraction > settings.reuse_contraction;
             let exact_factor = if fresh {
                 system.factorize(x, exact).map_err(Failure::Model)?

@@ -13,7 +13,10 @@
 //! converged state; a converged one lets the next grow back, up to the first size. An
 //! increment smaller than the first one halved `max_cutbacks` times fails the solve with
 //! [`ModelError::NotConverged`], naming the fraction of the load change reached; `u` is
-//! left at the start of the call.
+//! left at the start of the call. A solve at an unchanged load (a new start, or new
+//! equations; no forces that follow the load, [`InternalForces::follow_the_load`]) has
+//! nothing to cut back: its halves would repeat the same problem, so it is retried only on
+//! a fresh factorization if it failed on a kept one.
 //!
 //! With a single-precision factorization ([`Factorization::SupernodalSingle`]) the
 //! corrections are those of an approximate tangent, as on a kept factorization; a fresh one
@@ -37,6 +40,9 @@ pub struct Report {
     pub iterations: Vec<usize>,
     /// Numeric factorizations, failed increments included.
     pub factorizations: usize,
+    /// Iterations of the increments that did not converge (cut back, or failing the solve or
+    /// its start), summed.
+    pub failed_iterations: usize,
     /// Increments that were cut back.
     pub cutbacks: usize,
     /// ‖r_f‖ / scale at each iterate of the last increment (the convergence history).
@@ -47,6 +53,19 @@ pub struct Report {
     pub factorization: Duration,
     /// Time spent solving with the factorization.
     pub solve: Duration,
+}
+
+impl Report {
+    /// Counters and times zeroed, the lists' storage kept.
+    fn clear(&mut self) {
+        self.iterations.clear();
+        self.residuals.clear();
+        *self = Report {
+            iterations: std::mem::take(&mut self.iterations),
+            residuals: std::mem::take(&mut self.residuals),
+            ..Report::default()
+        };
+    }
 }
 
 /// What a solve depends on besides the equations and the displacement: the load of the last
@@ -195,14 +214,7 @@ impl Newton {
         c.s = 0.0;
         c.scale = 0.0;
         self.iteration.reset();
-        // The counters and times zeroed, the lists' storage kept.
-        c.report.residuals.clear();
-        c.report.iterations.clear();
-        c.report = Report {
-            residuals: std::mem::take(&mut c.report.residuals),
-            iterations: std::mem::take(&mut c.report.iterations),
-            ..Report::default()
-        };
+        c.report.clear();
         c.settings = settings;
         Ok(())
     }
@@ -389,7 +401,7 @@ impl Newton {
     /// constant ([`Self::sensitivity`]) — converges in a few iterations on the kept
     /// factorization, where the path from the last equilibrium takes its increments. A
     /// start that does not converge is dropped and the path from the last equilibrium
-    /// taken; on failure of both `u` keeps the last equilibrium.
+    /// taken (the report counts both); on failure of both `u` keeps the last equilibrium.
     pub fn solve_from(
         &mut self,
         eq: &(impl InternalForces + ?Sized),
@@ -398,6 +410,7 @@ impl Newton {
         prescribed: &[f64],
         external: &[f64],
     ) -> Result<&Report, ModelError> {
+        self.core.report.clear();
         let c = &mut self.core;
         let last = (c.prescribed.clone(), c.external.clone());
         for &d in c.bc.constrained() {
@@ -408,18 +421,20 @@ impl Newton {
         for &d in c.bc.constrained() {
             x[d] = prescribed[d];
         }
-        if self.solve(eq, &mut x, prescribed, external).is_ok() {
+        if self.reach(eq, &mut x, prescribed, external).is_ok() {
             u.copy_from_slice(&x);
             return Ok(&self.core.report);
         }
         let c = &mut self.core;
         (c.prescribed, c.external) = last;
-        self.solve(eq, u, prescribed, external)
+        self.reach(eq, u, prescribed, external)?;
+        Ok(&self.core.report)
     }
 
     /// Moves `u` from the last equilibrium to equilibrium under the prescribed values
     /// `prescribed` (read at the constrained dofs) and the external forces `external` (all
-    /// dofs). On failure `u` keeps the last equilibrium.
+    /// dofs). On failure `u` keeps the last equilibrium ([`Self::report`] says what the
+    /// attempt did).
     pub fn solve(
         &mut self,
         eq: &(impl InternalForces + ?Sized),
@@ -427,6 +442,24 @@ impl Newton {
         prescribed: &[f64],
         external: &[f64],
     ) -> Result<&Report, ModelError> {
+        self.core.report.clear();
+        self.reach(eq, u, prescribed, external)?;
+        Ok(&self.core.report)
+    }
+
+    /// What the last solve did, whether it converged or not.
+    pub fn report(&self) -> &Report {
+        &self.core.report
+    }
+
+    /// [`Self::solve`] adding to the report.
+    fn reach(
+        &mut self,
+        eq: &(impl InternalForces + ?Sized),
+        u: &mut [f64],
+        prescribed: &[f64],
+        external: &[f64],
+    ) -> Result<(), ModelError> {
         let c = &mut self.core;
         for &d in c.bc.constrained() {
             c.target_prescribed[d] = prescribed[d];
@@ -440,13 +473,12 @@ impl Newton {
                 .map(|&d| (prescribed[d] - c.prescribed[d]).abs())
                 .fold(0.0, f64::max);
         let base = 1.0 / (change / c.settings.max_increment).ceil().max(1.0);
-        c.report.iterations.clear();
-        c.report.factorizations = 0;
-        c.report.cutbacks = 0;
-        c.report.assembly = Duration::ZERO;
-        c.report.factorization = Duration::ZERO;
-        c.report.solve = Duration::ZERO;
-        let mut increments = Increments::new(base, c.settings.max_cutbacks);
+        let unchanged = change == 0.0 && c.target_external == c.external && !eq.follow_the_load();
+        let cutbacks = match unchanged {
+            true => usize::from(c.factorized),
+            false => c.settings.max_cutbacks,
+        };
+        let mut increments = Increments::new(base, cutbacks);
         while let Some((from, to)) = increments.next() {
             match self.increment(eq, from, to) {
                 Ok(iterations) => {
@@ -479,7 +511,7 @@ impl Newton {
         u.copy_from_slice(&c.converged);
         c.prescribed.copy_from_slice(&c.target_prescribed);
         c.external.copy_from_slice(&c.target_external);
-        Ok(&c.report)
+        Ok(())
     }
 
     /// One increment from the converged state at fraction `from` to `to`; on success the
@@ -507,9 +539,12 @@ impl Newton {
         c.report
             .residuals
             .extend_from_slice(&self.iteration.residuals);
-        if result.is_ok() {
-            c.set_at(&x);
-            c.converged.copy_from_slice(&c.at);
+        match result {
+            Ok(_) => {
+                c.set_at(&x);
+                c.converged.copy_from_slice(&c.at);
+            }
+            Err(_) => c.report.failed_iterations += self.iteration.taken,
         }
         c.du = x;
         result
