@@ -80,6 +80,15 @@ impl Solid {
         }
     }
 
+    /// Quadratic tetrahedra on `quadratic` (`mesh` with its mid-edge nodes) where it is
+    /// given, else linear ones on `mesh`.
+    pub fn on_mesh(mesh: &Mesh3d, quadratic: Option<&QuadraticMesh>, material: Material) -> Self {
+        match quadratic {
+            Some(q) => Self::quadratic(q, material),
+            None => Self::linear(mesh, material),
+        }
+    }
+
     /// Linear tetrahedra on `mesh`.
     pub fn linear(mesh: &Mesh3d, material: Material) -> Self {
         Self::on(

@@ -159,10 +159,7 @@ impl Topology {
             }
         };
         let (mesh, flank_pairs) = (&cut.mesh, &cut.flank_pairs);
-        let solid = match &quadratic {
-            Some(q) => Solid::quadratic(q, material),
-            None => Solid::linear(mesh, material),
-        };
+        let solid = Solid::on_mesh(mesh, quadratic.as_ref(), material);
         let sets = Sets {
             mesh,
             quadratic: quadratic.as_ref(),
@@ -395,10 +392,12 @@ impl Topology {
             .map(|&[x, y, z]| [if x == stays { x } else { x + shift }, y, z])
             .collect();
         let mesh = self.cut.mesh.moved(nodes)?;
-        Ok(match &self.quadratic {
-            Some(q) => Solid::quadratic(&q.moved(&mesh), self.solid.material),
-            None => Solid::linear(&mesh, self.solid.material),
-        })
+        let quadratic = self.quadratic.as_ref().map(|q| q.moved(&mesh));
+        Ok(Solid::on_mesh(
+            &mesh,
+            quadratic.as_ref(),
+            self.solid.material,
+        ))
     }
 }
 
