@@ -243,8 +243,8 @@ fn a_failed_solve_names_the_load_reached_and_keeps_the_state() {
 }
 
 /// A start that does not converge at an unchanged load (the equilibrium of a 30 % stretch
-/// with its lateral displacements 10 % off, given two iterations) is retried once, on a
-/// fresh factorization since it failed on the kept one, and not cut back further — its
+/// with its lateral displacements 10 % off, given two iterations) is retried once, from a
+/// fresh factorization since it started on the kept one, and not cut back further — its
 /// halves would be the same problem; the solve then goes on from the last equilibrium,
 /// converged there at once. The report counts the failed attempts' iterations: 2 × 2.
 #[test]

@@ -1,8 +1,8 @@
 //! What the cut block has done: its rebuilds, analyses, factorizations and solves, and for
 //! the finite-strain laws the returns to the unloaded block and the Newton increments and
-//! iterations (those that failed apart) ([`Work`], part of the scene's state), and where the Newton solves' time went
-//! ([`Timing`], a measurement: neither saved nor compared, so that the states of identical
-//! runs are identical bytes).
+//! iterations, those of failed increments apart ([`Work`], part of the scene's state), and
+//! where the Newton solves' time went ([`Timing`], a measurement: neither saved nor
+//! compared, so that the states of identical runs are identical bytes).
 
 use std::time::Duration;
 

@@ -15,8 +15,8 @@
 //! [`ModelError::NotConverged`], naming the fraction of the load change reached; `u` is
 //! left at the start of the call. A solve at an unchanged load (a new start, or new
 //! equations; no forces that follow the load, [`InternalForces::follow_the_load`]) has
-//! nothing to cut back: its halves would repeat the same problem, so it is retried only on
-//! a fresh factorization if it failed on a kept one.
+//! nothing to cut back: its halves would repeat the same problem, so it is retried once,
+//! from a fresh factorization, only if it started on a kept one.
 //!
 //! With a single-precision factorization ([`Factorization::SupernodalSingle`]) the
 //! corrections are those of an approximate tangent, as on a kept factorization; a fresh one
@@ -474,9 +474,10 @@ impl Newton {
                 .fold(0.0, f64::max);
         let base = 1.0 / (change / c.settings.max_increment).ceil().max(1.0);
         let unchanged = change == 0.0 && c.target_external == c.external && !eq.follow_the_load();
-        let cutbacks = match unchanged {
-            true => usize::from(c.factorized),
-            false => c.settings.max_cutbacks,
+        let cutbacks = if unchanged {
+            usize::from(c.factorized)
+        } else {
+            c.settings.max_cutbacks
         };
         let mut increments = Increments::new(base, cutbacks);
         while let Some((from, to)) = increments.next() {
