@@ -97,7 +97,8 @@ pub struct Settings {
     pub displacement_tolerance: f64,
     /// Iterations allowed per load increment (statics) or time step.
     pub max_iterations: usize,
-    /// Times a load increment may be halved.
+    /// Times a load increment may be halved (at an unchanged load at most once:
+    /// [`Newton`]'s solve).
     pub max_cutbacks: usize,
     /// The factorization is reused while every iteration reduces ‖r‖ at least by this
     /// factor; 0 refactorizes at every iteration (Newton–Raphson).

@@ -475,7 +475,7 @@ impl Newton {
         let base = 1.0 / (change / c.settings.max_increment).ceil().max(1.0);
         let unchanged = change == 0.0 && c.target_external == c.external && !eq.follow_the_load();
         let cutbacks = if unchanged {
-            usize::from(c.factorized)
+            usize::from(c.factorized).min(c.settings.max_cutbacks)
         } else {
             c.settings.max_cutbacks
         };
